@@ -1,0 +1,7 @@
+//! `spillage-model`: the one definition of the problem that both solvers solve.
+//!
+//! Case files → typed [`case::Case`]; face-addressed [`mesh::Mesh`] and its generators; wall
+//! geometry; closure laws; the [`state::State`] both solvers read and write; the
+//! [`solver::Solver`] trait; output writers.
+
+pub mod output;
