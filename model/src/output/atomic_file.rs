@@ -64,8 +64,10 @@ mod tests {
     fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         let dir = test_dir::fresh("atomic_failure");
         let path = dir.join("index.pvd");
-        write_atomically(&path, |w| w.write_all(b"old").map_err(|e| OutputError::io(&path, e)))
-            .unwrap();
+        write_atomically(&path, |w| {
+            w.write_all(b"old").map_err(|e| OutputError::io(&path, e))
+        })
+        .unwrap();
         let failed = write_atomically(&path, |w| {
             w.write_all(b"half of the new").unwrap();
             Err(OutputError::invalid(&path, "simulated failure mid-write"))

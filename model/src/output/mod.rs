@@ -97,16 +97,40 @@ pub(crate) fn check_finite(path: &Path, field: &str, values: &[f64]) -> Result<(
 
 #[cfg(test)]
 pub(crate) mod test_dir {
-    use std::path::PathBuf;
+    use std::path::{Path, PathBuf};
 
-    /// A fresh, empty directory for one test (removed first if a previous run left it).
-    pub fn fresh(test_name: &str) -> PathBuf {
+    /// A fresh, empty directory for one test under the system temp dir, removed when the test
+    /// passes and kept for inspection when it fails.
+    pub struct TestDir(PathBuf);
+
+    pub fn fresh(test_name: &str) -> TestDir {
         let dir = std::env::temp_dir().join(format!(
             "spillage-output-tests-{}-{test_name}",
             std::process::id()
         ));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("creating a test directory under the temp dir");
-        dir
+        TestDir(dir)
+    }
+
+    impl std::ops::Deref for TestDir {
+        type Target = Path;
+        fn deref(&self) -> &Path {
+            &self.0
+        }
+    }
+
+    impl AsRef<Path> for TestDir {
+        fn as_ref(&self) -> &Path {
+            &self.0
+        }
+    }
+
+    impl Drop for TestDir {
+        fn drop(&mut self) {
+            if !std::thread::panicking() {
+                let _ = std::fs::remove_dir_all(&self.0);
+            }
+        }
     }
 }

@@ -62,8 +62,12 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
 
     let temporary = temporary_sibling(path);
     // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
-    let resolution = |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
-    let resolutions = (resolution(plot.log_x, x_range), resolution(plot.log_y, y_range));
+    let resolution =
+        |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
+    let resolutions = (
+        resolution(plot.log_x, x_range),
+        resolution(plot.log_y, y_range),
+    );
     let drawn = {
         let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
         let (x0, x1) = x_range;
@@ -72,7 +76,13 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
             (false, false) => draw(&root, plot, resolutions, x0..x1, y0..y1),
             (true, false) => draw(&root, plot, resolutions, (x0..x1).log_scale(), y0..y1),
             (false, true) => draw(&root, plot, resolutions, x0..x1, (y0..y1).log_scale()),
-            (true, true) => draw(&root, plot, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
+            (true, true) => draw(
+                &root,
+                plot,
+                resolutions,
+                (x0..x1).log_scale(),
+                (y0..y1).log_scale(),
+            ),
         };
         result.and_then(|()| root.present().map_err(|e| e.to_string()))
     };
@@ -249,7 +259,9 @@ where
             .draw_series(LineSeries::new(series.points.iter().copied(), line_style))
             .map_err(|e| error(&e))?
             .label(series.label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+            });
         if series.points.len() <= MARKER_LIMIT {
             chart
                 .draw_series(
@@ -306,10 +318,22 @@ mod tests {
                 log_x,
                 log_y,
                 series: vec![
-                    Series { label: "measured error", points: &error },
-                    Series { label: "first order slope", points: &first_order },
-                    Series { label: "constant", points: &constant },
-                    Series { label: "single point", points: &single },
+                    Series {
+                        label: "measured error",
+                        points: &error,
+                    },
+                    Series {
+                        label: "first order slope",
+                        points: &first_order,
+                    },
+                    Series {
+                        label: "constant",
+                        points: &constant,
+                    },
+                    Series {
+                        label: "single point",
+                        points: &single,
+                    },
                 ],
             };
             write_png(&plot, &path).unwrap();
@@ -355,7 +379,10 @@ mod tests {
                 y_label: "y",
                 log_x: false,
                 log_y,
-                series: vec![Series { label: "torque", points }],
+                series: vec![Series {
+                    label: "torque",
+                    points,
+                }],
             };
             write_png(&plot, &path)
         };

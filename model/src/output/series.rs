@@ -71,7 +71,8 @@ impl SeriesWriter {
             kept.push_str(line);
         }
         write_atomically(path, |w| {
-            w.write_all(kept.as_bytes()).map_err(|e| OutputError::io(path, e))
+            w.write_all(kept.as_bytes())
+                .map_err(|e| OutputError::io(path, e))
         })?;
         Self::open_for_append(path, columns)
     }
@@ -162,20 +163,35 @@ pub fn read_series(path: &Path) -> Result<SeriesTable, OutputError> {
     Ok(SeriesTable { columns, rows })
 }
 
-fn parse_row(path: &Path, line: &str, width: usize, line_number: usize) -> Result<Vec<f64>, OutputError> {
+fn parse_row(
+    path: &Path,
+    line: &str,
+    width: usize,
+    line_number: usize,
+) -> Result<Vec<f64>, OutputError> {
     let values = line
         .trim_end_matches(['\n', '\r'])
         .split(',')
         .map(|field| {
-            field.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                OutputError::malformed(path, format!("line {line_number}: {field:?} is not a finite number"))
-            })
+            field
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    OutputError::malformed(
+                        path,
+                        format!("line {line_number}: {field:?} is not a finite number"),
+                    )
+                })
         })
         .collect::<Result<Vec<_>, _>>()?;
     if values.len() != width {
         return Err(OutputError::malformed(
             path,
-            format!("line {line_number} has {} values, the header {width}", values.len()),
+            format!(
+                "line {line_number} has {} values, the header {width}",
+                values.len()
+            ),
         ));
     }
     Ok(values)
@@ -183,7 +199,10 @@ fn parse_row(path: &Path, line: &str, width: usize, line_number: usize) -> Resul
 
 fn checked_columns(path: &Path, columns: &[&str]) -> Result<Vec<String>, OutputError> {
     if columns.is_empty() {
-        return Err(OutputError::invalid(path, "a series needs at least one column"));
+        return Err(OutputError::invalid(
+            path,
+            "a series needs at least one column",
+        ));
     }
     let mut seen = BTreeSet::new();
     for &name in columns {
@@ -201,7 +220,10 @@ fn checked_columns(path: &Path, columns: &[&str]) -> Result<Vec<String>, OutputE
             ));
         }
         if !seen.insert(name) {
-            return Err(OutputError::invalid(path, format!("column {name:?} appears twice")));
+            return Err(OutputError::invalid(
+                path,
+                format!("column {name:?} appears twice"),
+            ));
         }
     }
     Ok(columns.iter().map(|c| c.to_string()).collect())
@@ -276,7 +298,10 @@ mod tests {
 
         let fresh = dir.join("fresh.csv");
         SeriesWriter::resume(&fresh, &COLUMNS, Some(1.0)).unwrap();
-        assert_eq!(std::fs::read_to_string(&fresh).unwrap(), "time,spillage_fraction,torque\n");
+        assert_eq!(
+            std::fs::read_to_string(&fresh).unwrap(),
+            "time,spillage_fraction,torque\n"
+        );
     }
 
     #[test]
@@ -291,10 +316,16 @@ mod tests {
         );
         let e = writer.write_row(&[0.0, 1.0]).unwrap_err();
         assert!(e.to_string().contains("has 2 values"), "{e}");
-        assert!(read_series(&path).unwrap().rows.is_empty(), "refused rows are not written");
+        assert!(
+            read_series(&path).unwrap().rows.is_empty(),
+            "refused rows are not written"
+        );
 
         for bad in [&["t", "t"][..], &["a,b"], &[""], &[" x"], &[]] {
-            assert!(SeriesWriter::create(&dir.join("x.csv"), bad).is_err(), "{bad:?}");
+            assert!(
+                SeriesWriter::create(&dir.join("x.csv"), bad).is_err(),
+                "{bad:?}"
+            );
         }
         std::fs::write(&path, "a,b\n1,2\n3\n").unwrap();
         let e = read_series(&path).unwrap_err();

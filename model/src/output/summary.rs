@@ -113,7 +113,10 @@ mod tests {
         summary.write(&path).unwrap();
         let read = Summary::read(&path).unwrap();
         assert_eq!(read, summary);
-        assert_eq!(read.results["spillage_fraction"].to_bits(), (1.0_f64 / 3.0).to_bits());
+        assert_eq!(
+            read.results["spillage_fraction"].to_bits(),
+            (1.0_f64 / 3.0).to_bits()
+        );
         assert_eq!(read.versions.crate_version, env!("CARGO_PKG_VERSION"));
 
         let value: serde_json::Value =
@@ -121,7 +124,9 @@ mod tests {
         assert_eq!(value["case_name"], "cutter_small");
         assert_eq!(value["solver"], "reference");
         assert_eq!(value["details"]["mesh"]["cells"], 4096);
-        assert!(value["versions"]["git_hash"].is_null() || value["versions"]["git_hash"].is_string());
+        assert!(
+            value["versions"]["git_hash"].is_null() || value["versions"]["git_hash"].is_string()
+        );
     }
 
     #[test]
@@ -138,7 +143,11 @@ mod tests {
         summary.write(&path).unwrap();
         let read = Summary::read(&path).unwrap();
         for (key, value) in &summary.results {
-            assert_eq!(read.results[key].to_bits(), value.to_bits(), "{key}: {value:e}");
+            assert_eq!(
+                read.results[key].to_bits(),
+                value.to_bits(),
+                "{key}: {value:e}"
+            );
         }
     }
 

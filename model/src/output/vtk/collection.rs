@@ -95,7 +95,10 @@ impl PvdCollection {
         if entry.file.trim().is_empty() || entry.file.chars().any(char::is_control) {
             return Err(OutputError::invalid(
                 &self.path,
-                format!("frame file name {:?} must be non-empty without control characters", entry.file),
+                format!(
+                    "frame file name {:?} must be non-empty without control characters",
+                    entry.file
+                ),
             ));
         }
         self.entries.push(entry);
@@ -163,12 +166,18 @@ pub fn read_pvd(path: &Path) -> Result<Vec<PvdEntry>, OutputError> {
         return Err(bad("expected exactly one <Collection>".to_string()));
     };
     if collection.tag_name().name() != "Collection" {
-        return Err(bad(format!("unexpected <{}>", collection.tag_name().name())));
+        return Err(bad(format!(
+            "unexpected <{}>",
+            collection.tag_name().name()
+        )));
     }
     let mut entries = Vec::new();
     for node in collection.children().filter(|n| n.is_element()) {
         if node.tag_name().name() != "DataSet" {
-            return Err(bad(format!("unexpected <{}> in <Collection>", node.tag_name().name())));
+            return Err(bad(format!(
+                "unexpected <{}> in <Collection>",
+                node.tag_name().name()
+            )));
         }
         let attribute = |name: &str| {
             node.attribute(name)

@@ -149,8 +149,15 @@ impl UnstructuredCells {
 
     /// The point ids of cell `index`.
     pub fn cell(&self, index: usize) -> (CellType, &[usize]) {
-        let start = if index == 0 { 0 } else { self.offsets[index - 1] };
-        (self.types[index], &self.connectivity[start..self.offsets[index]])
+        let start = if index == 0 {
+            0
+        } else {
+            self.offsets[index - 1]
+        };
+        (
+            self.types[index],
+            &self.connectivity[start..self.offsets[index]],
+        )
     }
 }
 

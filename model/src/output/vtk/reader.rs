@@ -122,8 +122,7 @@ fn split_appended_data(bytes: &[u8]) -> Result<(String, Option<&[u8]>), String> 
         let text = std::str::from_utf8(bytes).map_err(|e| format!("not UTF-8 text: {e}"))?;
         return Ok((text.to_string(), None));
     };
-    let tag_end = open
-        + find(&bytes[open..], b">").ok_or("unterminated <AppendedData> tag")?;
+    let tag_end = open + find(&bytes[open..], b">").ok_or("unterminated <AppendedData> tag")?;
     let underscore = tag_end
         + find(&bytes[tag_end..], b"_").ok_or("<AppendedData> without the `_` data marker")?;
     if !bytes[tag_end + 1..underscore]
@@ -172,28 +171,38 @@ fn element_children<'a, 'input>(node: Node<'a, 'input>) -> impl Iterator<Item = 
     node.children().filter(|c| c.is_element())
 }
 
-fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Result<VtkDataset, String> {
+fn read_document(
+    document: &roxmltree::Document,
+    reader: &mut ArrayReader,
+) -> Result<VtkDataset, String> {
     let root = document.root_element();
     if root.tag_name().name() != "VTKFile" {
-        return Err(format!("root element is <{}>, expected <VTKFile>", root.tag_name().name()));
+        return Err(format!(
+            "root element is <{}>, expected <VTKFile>",
+            root.tag_name().name()
+        ));
     }
     let dataset_type = required(root, "type")?.to_string();
     let version = required(root, "version")?.to_string();
     let byte_order = required(root, "byte_order")?;
     if byte_order != "LittleEndian" {
-        return Err(format!("byte_order {byte_order:?}; this reader handles LittleEndian"));
+        return Err(format!(
+            "byte_order {byte_order:?}; this reader handles LittleEndian"
+        ));
     }
     let header_type = required(root, "header_type")?;
     if header_type != "UInt64" {
-        return Err(format!("header_type {header_type:?}; this reader handles UInt64"));
+        return Err(format!(
+            "header_type {header_type:?}; this reader handles UInt64"
+        ));
     }
     if version != "1.0" {
-        return Err(format!("version {version:?}; header_type needs file version 1.0"));
+        return Err(format!(
+            "version {version:?}; header_type needs file version 1.0"
+        ));
     }
     let mut children = element_children(root);
-    let dataset_node = children
-        .next()
-        .ok_or("<VTKFile> has no dataset element")?;
+    let dataset_node = children.next().ok_or("<VTKFile> has no dataset element")?;
     if dataset_node.tag_name().name() != dataset_type {
         return Err(format!(
             "type=\"{dataset_type}\" but the dataset element is <{}>",
@@ -205,7 +214,9 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
         Some(n) if n.tag_name().name() == "AppendedData" => {
             let encoding = required(n, "encoding")?;
             if encoding != "raw" {
-                return Err(format!("AppendedData encoding {encoding:?}; expected \"raw\""));
+                return Err(format!(
+                    "AppendedData encoding {encoding:?}; expected \"raw\""
+                ));
             }
         }
         Some(n) => return Err(format!("unexpected <{}> in <VTKFile>", n.tag_name().name())),
@@ -213,7 +224,10 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
 
     let pieces: Vec<_> = element_children(dataset_node).collect();
     let [piece] = pieces.as_slice() else {
-        return Err(format!("expected exactly one <Piece>, found {}", pieces.len()));
+        return Err(format!(
+            "expected exactly one <Piece>, found {}",
+            pieces.len()
+        ));
     };
     let n_points = required_count(*piece, "NumberOfPoints")?;
     let block_counts: Vec<(&str, usize)> = match dataset_type.as_str() {
@@ -248,14 +262,15 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
         match tag {
             "Points" => {
                 let [array] = arrays.as_slice() else {
-                    return Err(format!("<Points> holds {} arrays, expected 1", arrays.len()));
+                    return Err(format!(
+                        "<Points> holds {} arrays, expected 1",
+                        arrays.len()
+                    ));
                 };
                 if array.components != 3 {
                     return Err("<Points> array must have NumberOfComponents=\"3\"".to_string());
                 }
-                let coordinates = array
-                    .as_vectors()
-                    .ok_or("<Points> array must be Float64")?;
+                let coordinates = array.as_vectors().ok_or("<Points> array must be Float64")?;
                 check_tuples("Points", array, n_points)?;
                 set_once(&mut points, coordinates, tag)?;
             }
@@ -275,7 +290,13 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
                 let Some(&(_, count)) = block_counts.iter().find(|(t, _)| *t == tag) else {
                     return Err(format!("unexpected <{tag}> in a {dataset_type} piece"));
                 };
-                let block = cell_block(tag, arrays, count, n_points, dataset_type == "UnstructuredGrid")?;
+                let block = cell_block(
+                    tag,
+                    arrays,
+                    count,
+                    n_points,
+                    dataset_type == "UnstructuredGrid",
+                )?;
                 if cell_blocks.insert(tag.to_string(), block).is_some() {
                     return Err(format!("<{tag}> appears twice"));
                 }
@@ -284,7 +305,9 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
     }
     for (tag, count) in &block_counts {
         if *count > 0 && !cell_blocks.contains_key(*tag) {
-            return Err(format!("the piece declares {count} {tag} but has no <{tag}> element"));
+            return Err(format!(
+                "the piece declares {count} {tag} but has no <{tag}> element"
+            ));
         }
     }
     if dataset_type == "UnstructuredGrid" && !cell_blocks.contains_key("Cells") {
@@ -297,7 +320,9 @@ fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Re
         _ => return Err("arrays mix ascii and appended formats".to_string()),
     };
     if (encoding == Encoding::AppendedRaw) != reader.appended.is_some() {
-        return Err("appended arrays and the <AppendedData> section must come together".to_string());
+        return Err(
+            "appended arrays and the <AppendedData> section must come together".to_string(),
+        );
     }
     Ok(VtkDataset {
         dataset_type,
@@ -357,7 +382,9 @@ fn cell_block(
     let mut start = 0i64;
     for (i, &end) in offsets.iter().enumerate() {
         if end <= start {
-            return Err(format!("<{tag}> offsets must increase: cell {i} ends at {end} after {start}"));
+            return Err(format!(
+                "<{tag}> offsets must increase: cell {i} ends at {end} after {start}"
+            ));
         }
         start = end;
     }
@@ -367,7 +394,10 @@ fn cell_block(
             connectivity.len()
         ));
     }
-    if let Some(&bad) = connectivity.iter().find(|&&id| id < 0 || id as usize >= n_points) {
+    if let Some(&bad) = connectivity
+        .iter()
+        .find(|&&id| id < 0 || id as usize >= n_points)
+    {
         return Err(format!("<{tag}> refers to point {bad} of {n_points}"));
     }
     let types = if with_types {
@@ -377,7 +407,10 @@ fn cell_block(
             None => return Err(format!("<{tag}> lacks the `types` array")),
         };
         if types.len() != count {
-            return Err(format!("<{tag}> has {} types for {count} cells", types.len()));
+            return Err(format!(
+                "<{tag}> has {} types for {count} cells",
+                types.len()
+            ));
         }
         let mut start = 0;
         for (i, (&t, &end)) in types.iter().zip(&offsets).enumerate() {
@@ -434,7 +467,11 @@ impl ArrayReader<'_> {
                 let payload = self.payload(offset).map_err(|e| format!("`{name}`: {e}"))?;
                 decode_raw(vtk_type, payload).map_err(|e| format!("`{name}`: {e}"))?
             }
-            other => return Err(format!("`{name}` has format {other:?}; expected ascii or appended")),
+            other => {
+                return Err(format!(
+                    "`{name}` has format {other:?}; expected ascii or appended"
+                ))
+            }
         };
         if values.len() % components != 0 {
             return Err(format!(
@@ -455,14 +492,19 @@ impl ArrayReader<'_> {
     }
 
     fn payload(&mut self, offset: usize) -> Result<&[u8], String> {
-        let data = self.appended.ok_or("appended array but no <AppendedData>")?;
-        let header = data
-            .get(offset..offset + 8)
-            .ok_or_else(|| format!("offset {offset} is past the appended data ({} bytes)", data.len()))?;
+        let data = self
+            .appended
+            .ok_or("appended array but no <AppendedData>")?;
+        let header = data.get(offset..offset + 8).ok_or_else(|| {
+            format!(
+                "offset {offset} is past the appended data ({} bytes)",
+                data.len()
+            )
+        })?;
         let length = u64::from_le_bytes(header.try_into().expect("8 bytes")) as usize;
-        let payload = data
-            .get(offset + 8..offset + 8 + length)
-            .ok_or_else(|| format!("its {length} bytes at offset {offset} overrun the appended data"))?;
+        let payload = data.get(offset + 8..offset + 8 + length).ok_or_else(|| {
+            format!("its {length} bytes at offset {offset} overrun the appended data")
+        })?;
         self.blocks.push((offset, 8 + length));
         Ok(payload)
     }
@@ -478,7 +520,9 @@ impl ArrayReader<'_> {
         let mut next = 0;
         for (offset, length) in blocks {
             if offset != next {
-                return Err(format!("appended array at offset {offset}, expected {next}"));
+                return Err(format!(
+                    "appended array at offset {offset}, expected {next}"
+                ));
             }
             next = offset + length;
         }
@@ -492,8 +536,13 @@ impl ArrayReader<'_> {
     }
 }
 
-fn parse_ascii<'t>(vtk_type: &str, tokens: impl Iterator<Item = &'t str>) -> Result<ArrayValues, String> {
-    fn all<T: std::str::FromStr>(tokens: impl Iterator<Item = impl AsRef<str>>) -> Result<Vec<T>, String> {
+fn parse_ascii<'t>(
+    vtk_type: &str,
+    tokens: impl Iterator<Item = &'t str>,
+) -> Result<ArrayValues, String> {
+    fn all<T: std::str::FromStr>(
+        tokens: impl Iterator<Item = impl AsRef<str>>,
+    ) -> Result<Vec<T>, String> {
         tokens
             .map(|t| {
                 t.as_ref()
@@ -512,8 +561,12 @@ fn parse_ascii<'t>(vtk_type: &str, tokens: impl Iterator<Item = &'t str>) -> Res
 
 fn decode_raw(vtk_type: &str, bytes: &[u8]) -> Result<ArrayValues, String> {
     let eight = |what: &str| -> Result<std::slice::ChunksExact<'_, u8>, String> {
+        #[allow(clippy::manual_is_multiple_of)] // is_multiple_of needs Rust 1.87; MSRV is 1.85
         if bytes.len() % 8 != 0 {
-            return Err(format!("{} bytes is not a whole number of {what}", bytes.len()));
+            return Err(format!(
+                "{} bytes is not a whole number of {what}",
+                bytes.len()
+            ));
         }
         Ok(bytes.chunks_exact(8))
     };

@@ -1,9 +1,7 @@
 //! VTK XML serial files (`.vtu`, `.vtp`), written by hand after the Kitware format description
 //! ("VTK File Formats", XML section): file version 1.0, little-endian, UInt64 binary headers.
 
-use super::data::{
-    CellType, Encoding, Field, FieldValues, PolyCells, PolyData, UnstructuredGrid,
-};
+use super::data::{CellType, Encoding, Field, FieldValues, PolyCells, PolyData, UnstructuredGrid};
 use crate::output::{check_finite, format_f64, write_atomically, OutputError};
 use std::borrow::Cow;
 use std::collections::BTreeSet;
@@ -208,8 +206,13 @@ impl<'a> DataArray<'a> {
     fn write_ascii(&self, w: &mut impl Write) -> std::io::Result<()> {
         // One tuple per line for vectors, a few numbers per line for scalars: readable, and
         // lines stay short for text tools.
-        let per_line = if self.components > 1 { self.components } else { 8 };
+        let per_line = if self.components > 1 {
+            self.components
+        } else {
+            8
+        };
         let line = |w: &mut dyn Write, i: usize, text: String| -> std::io::Result<()> {
+            #[allow(clippy::manual_is_multiple_of)] // is_multiple_of needs Rust 1.87; MSRV 1.85
             if i % per_line == 0 {
                 write!(w, "\n          {text}")
             } else {
@@ -286,7 +289,11 @@ fn field_section<'a>(
     fields: &[Field<'a>],
     expected_len: usize,
 ) -> Result<Section<'a>, OutputError> {
-    let owner = if tag == "PointData" { "points" } else { "cells" };
+    let owner = if tag == "PointData" {
+        "points"
+    } else {
+        "cells"
+    };
     let mut names = BTreeSet::new();
     let mut arrays = Vec::with_capacity(fields.len());
     for field in fields {
@@ -294,7 +301,10 @@ fn field_section<'a>(
         if !names.insert(field.name) {
             return Err(OutputError::invalid(
                 path,
-                format!("{tag} has two fields named `{}`; names must be unique", field.name),
+                format!(
+                    "{tag} has two fields named `{}`; names must be unique",
+                    field.name
+                ),
             ));
         }
         if field.values.len() != expected_len {
@@ -314,7 +324,11 @@ fn field_section<'a>(
             }
             FieldValues::Vector(v) => {
                 let flat = v.as_flattened();
-                check_finite(path, &format!("{} (flattened components)", field.name), flat)?;
+                check_finite(
+                    path,
+                    &format!("{} (flattened components)", field.name),
+                    flat,
+                )?;
                 (3, Numbers::F64(flat))
             }
             FieldValues::Int(v) => (1, Numbers::I64(Cow::Borrowed(v))),
@@ -357,11 +371,7 @@ pub(crate) fn xml_escape(text: &str) -> Cow<'_, str> {
     Cow::Owned(escaped)
 }
 
-fn write_document(
-    path: &Path,
-    document: &Document,
-    encoding: Encoding,
-) -> Result<(), OutputError> {
+fn write_document(path: &Path, document: &Document, encoding: Encoding) -> Result<(), OutputError> {
     write_atomically(path, |w| {
         write_document_to(w, document, encoding).map_err(|e| OutputError::io(path, e))
     })
