@@ -5,3 +5,4 @@
 //! [`solver::Solver`] trait; output writers.
 
 pub mod output;
+pub mod mesh;
