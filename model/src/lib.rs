@@ -4,5 +4,11 @@
 //! geometry; closure laws; the [`state::State`] both solvers read and write; the
 //! [`solver::Solver`] trait; output writers.
 
-pub mod output;
+pub mod case;
+pub mod fluid;
 pub mod mesh;
+pub mod output;
+pub mod particles;
+pub mod solver;
+pub mod state;
+pub mod walls;
