@@ -1,0 +1,1 @@
+//! Cylindrical (r, θ, z) block generators about the z axis.

@@ -1,0 +1,1 @@
+//! Rigid rotation of cell zones and the mesh flux it induces.
