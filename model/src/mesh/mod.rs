@@ -29,6 +29,7 @@ pub mod motion;
 pub mod sliding_interface;
 
 pub use cartesian::BoxSpec;
+pub use cylindrical::{AnnulusSpec, RotorStatorSpec};
 pub use locate::Locator;
 pub use sliding_interface::{overlap_1d, Overlap, Overlap1d, SlidingInterface};
 
