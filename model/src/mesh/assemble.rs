@@ -7,7 +7,9 @@
 //! periodic faces.
 
 use super::geometry::{hex_face, HEX_FACES};
-use super::{CellZone, Locator, Mesh, MeshError, Patch, PatchKind, PeriodicPair, Vec3, ZoneRotation};
+use super::{
+    CellZone, Locator, Mesh, MeshError, Patch, PatchKind, PeriodicPair, Vec3, ZoneRotation,
+};
 
 /// A zone as the generator describes it.
 pub struct ZoneInput {
@@ -73,7 +75,9 @@ pub fn assemble(
                 let (_, a, local_a) = records[i];
                 let (_, b, local_b) = records[i + 1];
                 if a == b {
-                    return Err(MeshError::Topology(format!("cell {a} is its own neighbour")));
+                    return Err(MeshError::Topology(format!(
+                        "cell {a} is its own neighbour"
+                    )));
                 }
                 // records are sorted, so a < b: the lower cell owns the face.
                 internal.push((a, b, local_a, local_b));
@@ -111,7 +115,12 @@ pub fn assemble(
     let mut patches: Vec<Patch> = input
         .patches
         .iter()
-        .map(|(name, kind)| Patch { name: name.clone(), kind: kind.clone(), start: 0, len: 0 })
+        .map(|(name, kind)| Patch {
+            name: name.clone(),
+            kind: kind.clone(),
+            start: 0,
+            len: 0,
+        })
         .collect();
     for (k, &(patch, cell, local)) in boundary.iter().enumerate() {
         if patches[patch].len == 0 {
@@ -169,7 +178,11 @@ fn periodic_pairs(
     let mut pairs: Vec<PeriodicPair> = input
         .periodic
         .iter()
-        .map(|(name, shift)| PeriodicPair { name: name.clone(), faces: Vec::new(), shift: *shift })
+        .map(|(name, shift)| PeriodicPair {
+            name: name.clone(),
+            faces: Vec::new(),
+            shift: *shift,
+        })
         .collect();
     let (low, high) = input.points.iter().fold(
         (Vec3::repeat(f64::MAX), Vec3::repeat(f64::MIN)),
@@ -185,14 +198,15 @@ fn periodic_pairs(
         if shift.norm() <= tolerance {
             continue;
         }
-        let pair = pairs.iter_mut().find(|p| (p.shift - shift).norm() <= tolerance).ok_or_else(
-            || {
+        let pair = pairs
+            .iter_mut()
+            .find(|p| (p.shift - shift).norm() <= tolerance)
+            .ok_or_else(|| {
                 MeshError::Topology(format!(
                     "face {face} between cells {owner} and {neighbour} is shifted by {shift:?}, \
                      which matches no periodic pair"
                 ))
-            },
-        )?;
+            })?;
         pair.faces.push(face);
     }
     Ok(pairs)
@@ -270,11 +284,9 @@ fn build_zones(
         if zone.rotation.is_none() {
             continue;
         }
-        let foreign = input
-            .cells
-            .iter()
-            .enumerate()
-            .find(|(c, ids)| cell_zone[*c] != z && ids.iter().any(|p| zone.points.binary_search(p).is_ok()));
+        let foreign = input.cells.iter().enumerate().find(|(c, ids)| {
+            cell_zone[*c] != z && ids.iter().any(|p| zone.points.binary_search(p).is_ok())
+        });
         if let Some((c, _)) = foreign {
             return Err(MeshError::Topology(format!(
                 "rotating zone `{}` shares points with cell {c} outside it",

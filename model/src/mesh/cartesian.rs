@@ -25,7 +25,13 @@ pub struct BoxSpec {
 impl BoxSpec {
     /// Uniform, non-periodic box.
     pub fn uniform(min: Vec3, max: Vec3, cells: [usize; 3]) -> Self {
-        BoxSpec { min, max, cells, grading: [1.0; 3], periodic: [false; 3] }
+        BoxSpec {
+            min,
+            max,
+            cells,
+            grading: [1.0; 3],
+            periodic: [false; 3],
+        }
     }
 }
 
@@ -41,7 +47,11 @@ pub(crate) fn graded_edges(
     ratio: f64,
 ) -> Result<Vec<f64>, MeshError> {
     if !(ratio.is_finite() && ratio > 0.0) {
-        return Err(MeshError::input(name, ratio, "grading must be a finite ratio > 0"));
+        return Err(MeshError::input(
+            name,
+            ratio,
+            "grading must be a finite ratio > 0",
+        ));
     }
     let length = end - start;
     let mut edges = Vec::with_capacity(n + 1);
@@ -185,12 +195,18 @@ mod tests {
         let total: f64 = mesh.cell_volumes.iter().sum();
         let exact = 3.0 * 1.2 * 0.9;
         // Round-off of ~60 summed products of O(1) numbers.
-        assert!((total - exact).abs() < 1e-14 * exact, "total {total} vs {exact}");
+        assert!(
+            (total - exact).abs() < 1e-14 * exact,
+            "total {total} vs {exact}"
+        );
         for (c, v) in mesh.cell_volumes.iter().enumerate() {
             let ids = mesh.cell_points[c];
             let diagonal = mesh.points[ids[6]] - mesh.points[ids[0]];
             let product = diagonal.x * diagonal.y * diagonal.z;
-            assert!((v - product).abs() < 1e-14 * product, "cell {c}: {v} vs {product}");
+            assert!(
+                (v - product).abs() < 1e-14 * product,
+                "cell {c}: {v} vs {product}"
+            );
         }
     }
 
@@ -203,7 +219,10 @@ mod tests {
         let q = 3.0f64.powf(0.25);
         for k in 1..5 {
             let growth = (edges[k + 1] - edges[k]) / (edges[k] - edges[k - 1]);
-            assert!((growth - q).abs() < 1e-13, "interval {k}: growth {growth} vs {q}");
+            assert!(
+                (growth - q).abs() < 1e-13,
+                "interval {k}: growth {growth} vs {q}"
+            );
         }
         assert_eq!(edges[0], spec.min.x);
         assert_eq!(edges[5], spec.max.x);
@@ -219,7 +238,10 @@ mod tests {
         assert_eq!(mesh.n_internal_faces, 4 * 4 * 3 + 5 * 3 * 3 + 5 * 4 * 2);
         assert_eq!(mesh.n_faces() - mesh.n_internal_faces, 2 * (20 + 12 + 15));
         let names: Vec<&str> = mesh.patches.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(names, ["x_min", "x_max", "y_min", "y_max", "z_min", "z_max"]);
+        assert_eq!(
+            names,
+            ["x_min", "x_max", "y_min", "y_max", "z_min", "z_max"]
+        );
         let x_min = mesh.patch("x_min").unwrap();
         assert_eq!(x_min.len, 4 * 3);
         for f in x_min.faces() {
@@ -283,11 +305,16 @@ mod tests {
         };
         for f in 0..mesh.n_internal_faces {
             let d = mesh.face_areas[f].iamax();
-            let expected =
-                0.5 * (width(mesh.face_owner[f], d) + width(mesh.face_neighbour[f], d));
+            let expected = 0.5 * (width(mesh.face_owner[f], d) + width(mesh.face_neighbour[f], d));
             let delta = mesh.face_delta[f];
-            assert!((delta.norm() - expected).abs() < 1e-14, "face {f} delta {delta:?}");
-            assert!((delta[d].abs() - expected).abs() < 1e-14, "face {f} delta {delta:?}");
+            assert!(
+                (delta.norm() - expected).abs() < 1e-14,
+                "face {f} delta {delta:?}"
+            );
+            assert!(
+                (delta[d].abs() - expected).abs() < 1e-14,
+                "face {f} delta {delta:?}"
+            );
         }
     }
 
@@ -316,14 +343,23 @@ mod tests {
         assert!(error.contains("box.cells.y"), "{error}");
         let mut spec = graded_box();
         spec.max.z = spec.min.z;
-        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.min/max.z"));
+        assert!(Mesh::cartesian_box(&spec)
+            .unwrap_err()
+            .to_string()
+            .contains("box.min/max.z"));
         let mut spec = graded_box();
         spec.grading[0] = -1.0;
-        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.grading.x"));
+        assert!(Mesh::cartesian_box(&spec)
+            .unwrap_err()
+            .to_string()
+            .contains("box.grading.x"));
         let mut spec = graded_box();
         spec.periodic[2] = true;
         spec.cells[2] = 2;
-        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.cells.z"));
+        assert!(Mesh::cartesian_box(&spec)
+            .unwrap_err()
+            .to_string()
+            .contains("box.cells.z"));
     }
 
     #[test]
@@ -337,7 +373,10 @@ mod tests {
             // Independent check: the cell's own corner box contains the point.
             let ids = mesh.cell_points[cell];
             let (lo, hi) = (mesh.points[ids[0]], mesh.points[ids[6]]);
-            assert!((0..3).all(|d| lo[d] <= p[d] && p[d] <= hi[d]), "{p:?} not in {cell}");
+            assert!(
+                (0..3).all(|d| lo[d] <= p[d] && p[d] <= hi[d]),
+                "{p:?} not in {cell}"
+            );
             assert!(mesh.contains(cell, &p));
         }
         assert_eq!(mesh.locate(&Vec3::new(2.1, 1.0, 2.5)), None);

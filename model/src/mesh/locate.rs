@@ -28,8 +28,12 @@ pub enum Locator {
     /// No index map: brute-force search.
     None,
     /// Axis-aligned box; cell `i + n_x (j + n_y k)` spans `edges[d][index..=index+1]`.
-    Box { edges: [Vec<f64>; 3] },
-    Cylindrical { blocks: Vec<CylinderBlock> },
+    Box {
+        edges: [Vec<f64>; 3],
+    },
+    Cylindrical {
+        blocks: Vec<CylinderBlock>,
+    },
 }
 
 /// Index of the interval of sorted `edges` holding `x`, or `None` if outside.
@@ -68,14 +72,17 @@ impl Mesh {
                 let (nx, ny) = (edges[0].len() - 1, edges[1].len() - 1);
                 Some(i + nx * (j + ny * k))
             }
-            Locator::Cylindrical { blocks } => {
-                blocks.iter().find_map(|block| self.locate_in_block(block, point))
-            }
+            Locator::Cylindrical { blocks } => blocks
+                .iter()
+                .find_map(|block| self.locate_in_block(block, point)),
         }
     }
 
     fn locate_in_block(&self, block: &CylinderBlock, point: &Vec3) -> Option<usize> {
-        let angle = self.zones[block.zone].rotation.as_ref().map_or(0.0, |r| r.angle);
+        let angle = self.zones[block.zone]
+            .rotation
+            .as_ref()
+            .map_or(0.0, |r| r.angle);
         let r = point.x.hypot(point.y);
         let n_r = block.r_edges.len() - 1;
         // A chord dips inside its circle by at most r (1 − cos(π/n_θ)): points that far in
@@ -100,17 +107,13 @@ impl Mesh {
             if self.contains(cell, point) {
                 return Some(cell);
             }
-            let exit = self
-                .faces_of_cell(cell)
-                .iter()
-                .copied()
-                .max_by(|&a, &b| {
-                    let beyond = |f: usize| {
-                        let area = self.outward_area(f, cell);
-                        (point - self.face_centres[f]).dot(&area) / area.norm()
-                    };
-                    beyond(a).total_cmp(&beyond(b))
-                })?;
+            let exit = self.faces_of_cell(cell).iter().copied().max_by(|&a, &b| {
+                let beyond = |f: usize| {
+                    let area = self.outward_area(f, cell);
+                    (point - self.face_centres[f]).dot(&area) / area.norm()
+                };
+                beyond(a).total_cmp(&beyond(b))
+            })?;
             if exit >= self.n_internal_faces || self.periodic_shift_of(exit) != Vec3::zeros() {
                 return None;
             }

@@ -40,9 +40,16 @@ pub type Vec3 = Vector3<f64>;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
     #[error("invalid mesh input `{input}` = {value}: {allowed}")]
-    InvalidInput { input: String, value: String, allowed: String },
+    InvalidInput {
+        input: String,
+        value: String,
+        allowed: String,
+    },
     #[error("unknown patch `{name}`; the mesh has patches {available:?}")]
-    UnknownPatch { name: String, available: Vec<String> },
+    UnknownPatch {
+        name: String,
+        available: Vec<String>,
+    },
     #[error("zone index {zone} out of range: the mesh has {n_zones} zones")]
     UnknownZone { zone: usize, n_zones: usize },
     #[error("zone `{name}` has no rotation; only rotating zones can be turned")]
@@ -71,7 +78,10 @@ pub enum PatchKind {
     /// Front/back of a one-cell-thick 2-D mesh: no flux, no gradient normal to it.
     Empty,
     /// One side of a sliding interface (index into `Mesh::interfaces`).
-    Interface { interface: usize, side: InterfaceSide },
+    Interface {
+        interface: usize,
+        side: InterfaceSide,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -63,7 +63,11 @@ pub struct Overlap1d {
 
 fn check_edges(name: &str, edges: &[f64]) -> Result<(), MeshError> {
     if edges.len() < 2 {
-        return Err(MeshError::input(name, format!("{edges:?}"), "need at least 2 edges"));
+        return Err(MeshError::input(
+            name,
+            format!("{edges:?}"),
+            "need at least 2 edges",
+        ));
     }
     if !edges.iter().all(|e| e.is_finite()) || edges.windows(2).any(|w| w[1] <= w[0]) {
         return Err(MeshError::input(
@@ -91,7 +95,10 @@ pub fn overlap_1d(source_edges: &[f64], target_edges: &[f64]) -> Result<Vec<Over
         return Err(MeshError::input(
             "target_edges",
             format!("[{}, {}]", target_edges[0], target_edges[n_t]),
-            &format!("must span the source interval [{}, {}]", source_edges[0], source_edges[n_s]),
+            &format!(
+                "must span the source interval [{}, {}]",
+                source_edges[0], source_edges[n_s]
+            ),
         ));
     }
     let mut overlaps = Vec::with_capacity(n_s + n_t);
@@ -240,8 +247,10 @@ mod tests {
         let source = [0.0, 2.0 / 3.0, 4.0 / 3.0, 2.0];
         let target = [0.0, 0.5, 1.0, 1.5, 2.0];
         let overlaps = overlap_1d(&source, &target).unwrap();
-        let weights: Vec<(usize, usize, f64)> =
-            overlaps.iter().map(|o| (o.target, o.source, o.target_fraction)).collect();
+        let weights: Vec<(usize, usize, f64)> = overlaps
+            .iter()
+            .map(|o| (o.target, o.source, o.target_fraction))
+            .collect();
         let expected = [
             (0, 0, 1.0),
             (1, 0, 1.0 / 3.0),
@@ -270,8 +279,14 @@ mod tests {
 
     #[test]
     fn overlap_1d_rejects_bad_edges() {
-        assert!(overlap_1d(&[0.0, 1.0, 0.5], &[0.0, 0.5]).unwrap_err().to_string().contains("source_edges"));
-        assert!(overlap_1d(&[0.0, 1.0], &[0.0, 0.9]).unwrap_err().to_string().contains("target_edges"));
+        assert!(overlap_1d(&[0.0, 1.0, 0.5], &[0.0, 0.5])
+            .unwrap_err()
+            .to_string()
+            .contains("source_edges"));
+        assert!(overlap_1d(&[0.0, 1.0], &[0.0, 0.9])
+            .unwrap_err()
+            .to_string()
+            .contains("target_edges"));
         assert!(overlap_1d(&[0.0], &[0.0, 1.0]).is_err());
     }
 
@@ -305,9 +320,14 @@ mod tests {
         for o in out.iter() {
             rotor_sum[o.rotor_face] += o.rotor_fraction;
             stator_sum[o.stator_face - 1000] += o.stator_fraction;
-            covered[o.rotor_face / i.n_theta_rotor] += o.rotor_fraction * TAU / i.n_theta_rotor as f64;
+            covered[o.rotor_face / i.n_theta_rotor] +=
+                o.rotor_fraction * TAU / i.n_theta_rotor as f64;
         }
-        let fraction_error = rotor_sum.iter().chain(&stator_sum).map(|s| (s - 1.0).abs()).fold(0.0, f64::max);
+        let fraction_error = rotor_sum
+            .iter()
+            .chain(&stator_sum)
+            .map(|s| (s - 1.0).abs())
+            .fold(0.0, f64::max);
         let cover_error = covered.iter().map(|c| (c - TAU).abs()).fold(0.0, f64::max);
         (fraction_error, cover_error)
     }
@@ -326,7 +346,10 @@ mod tests {
             }
             // Breakpoints of magnitude ≤ 4π carry round-off ~ε·4π each; relative to a face
             // width 2π/n that is ~2nε per piece, so 1e-12 covers n ≤ 256 with margin.
-            assert!(worst.0 < 1e-12 && worst.1 < 1e-12, "{n_rotor}/{n_stator}: {worst:?}");
+            assert!(
+                worst.0 < 1e-12 && worst.1 < 1e-12,
+                "{n_rotor}/{n_stator}: {worst:?}"
+            );
         }
     }
 
@@ -342,7 +365,10 @@ mod tests {
             assert_eq!(out.len(), 8, "turns {turns}");
             for o in &out {
                 assert_eq!(o.stator_face - 1000, o.rotor_face / 2);
-                assert!((o.rotor_fraction - 1.0).abs() < 1e-12 && (o.stator_fraction - 0.5).abs() < 1e-12);
+                assert!(
+                    (o.rotor_fraction - 1.0).abs() < 1e-12
+                        && (o.stator_fraction - 0.5).abs() < 1e-12
+                );
             }
         }
         // Rotor turned by a quarter rotor face (π/16): rotor face 0 spans [π/16, 5π/16],
