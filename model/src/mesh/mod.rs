@@ -23,6 +23,7 @@ use nalgebra::Vector3;
 pub mod assemble;
 pub mod cartesian;
 pub mod cylindrical;
+pub mod from_case;
 pub mod geometry;
 pub mod locate;
 pub mod motion;
@@ -30,6 +31,7 @@ pub mod sliding_interface;
 
 pub use cartesian::BoxSpec;
 pub use cylindrical::{AnnulusSpec, RotorStatorSpec};
+pub use from_case::build;
 pub use locate::Locator;
 pub use sliding_interface::{overlap_1d, Overlap, Overlap1d, SlidingInterface};
 
