@@ -4,4 +4,13 @@
 //! geometry; closure laws; the [`state::State`] both solvers read and write; the
 //! [`solver::Solver`] trait; output writers.
 
+pub mod case;
+pub mod checkpoint;
+pub mod fluid;
+pub mod mesh;
 pub mod output;
+pub mod particles;
+pub mod solver;
+pub mod state;
+pub mod state_diff;
+pub mod walls;

@@ -1,0 +1,153 @@
+//! Case files: TOML → a validated, typed [`Case`] in SI units.
+//!
+//! Parsing happens in two passes. Serde turns the text into typed sections (unknown keys and
+//! wrong types are errors located by the parser); then each section's `validate()` checks
+//! ranges and consistency and returns a [`FieldError`] with the dotted key path, which
+//! [`locate`] maps back to a line and column of the file.
+
+pub mod error;
+pub mod locate;
+pub mod mesh_section;
+pub mod sections;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+pub use error::{CaseError, CaseErrorKind, FieldError};
+pub use mesh_section::MeshSection;
+pub use sections::{CaseInfo, OutputSection, Physics, RotorSection, TimeControl, VerifySection};
+
+use crate::fluid::settings::{BoundaryCondition, FluidSection};
+use crate::particles::settings::ParticlesSection;
+use crate::walls::settings::WallSection;
+
+/// A whole case file, validated.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    pub case: CaseInfo,
+    #[serde(default)]
+    pub physics: Physics,
+    pub time: TimeControl,
+    pub fluid: Option<FluidSection>,
+    pub mesh: Option<MeshSection>,
+    pub rotor: Option<RotorSection>,
+    /// Boundary condition per mesh patch name.
+    #[serde(default)]
+    pub boundary: BTreeMap<String, BoundaryCondition>,
+    pub particles: Option<ParticlesSection>,
+    #[serde(default)]
+    pub walls: Vec<WallSection>,
+    #[serde(default)]
+    pub output: OutputSection,
+    pub verify: Option<VerifySection>,
+    /// The file this case was read from (set by [`Case::load`]).
+    #[serde(skip)]
+    pub path: PathBuf,
+}
+
+impl Case {
+    /// Reads and validates a case file.
+    pub fn load(path: &Path) -> Result<Case, CaseError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CaseError {
+            file: path.to_path_buf(),
+            line: None,
+            column: None,
+            kind: CaseErrorKind::Io(e),
+        })?;
+        Case::from_toml(&text, path)
+    }
+
+    /// Parses and validates case text; `path` is used in messages only.
+    pub fn from_toml(text: &str, path: &Path) -> Result<Case, CaseError> {
+        let mut case: Case = toml::from_str(text).map_err(|e| {
+            let (mut line, mut column, mut message) = (None, None, e.message().trim().to_string());
+            if let Some(span) = e.span() {
+                let (l, c) = locate::line_column(text, span.start);
+                (line, column) = (Some(l), Some(c));
+                if let Some(key) = locate::key_at(text, span.start).filter(|k| !message.contains(k.as_str())) {
+                    message = format!("key `{key}`: {message}");
+                }
+            }
+            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(message) }
+        })?;
+        case.path = path.to_path_buf();
+        case.validate().map_err(|field| {
+            let (line, column) = match locate::key_position(text, &field.key) {
+                Some((l, c)) => (Some(l), Some(c)),
+                None => (None, None),
+            };
+            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Invalid(field) }
+        })?;
+        Ok(case)
+    }
+
+    /// Range and consistency checks across sections.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if self.case.name.trim().is_empty() {
+            return Err(FieldError::new("case.name", "\"\"", "a non-empty name"));
+        }
+        self.physics.validate()?;
+        self.time.validate()?;
+        if let Some(fluid) = &self.fluid {
+            fluid.validate()?;
+        }
+        if let Some(mesh) = &self.mesh {
+            mesh.validate()?;
+        }
+        if let Some(rotor) = &self.rotor {
+            rotor.validate()?;
+            match &self.mesh {
+                Some(MeshSection::RotorStator { .. }) if rotor.zone == "rotor" => {
+                    // The generator builds the rotor about the z axis through the origin.
+                    let [ax, ay, az] = rotor.axis;
+                    if ax != 0.0 || ay != 0.0 || az == 0.0 {
+                        return Err(FieldError::new("rotor.axis", format!("{:?}", rotor.axis), "[0, 0, ±1]: the rotor_stator mesh turns about z"));
+                    }
+                    if rotor.origin[0] != 0.0 || rotor.origin[1] != 0.0 {
+                        return Err(FieldError::new("rotor.origin", format!("{:?}", rotor.origin), "a point on the z axis ([0, 0, z]): the rotor_stator mesh turns about z"));
+                    }
+                }
+                Some(MeshSection::RotorStator { .. }) => {
+                    return Err(FieldError::new("rotor.zone", format!("{:?}", rotor.zone), "\"rotor\" (the zone made by the rotor_stator generator)"))
+                }
+                _ if self.fluid.is_some() => {
+                    return Err(FieldError::new("rotor", "(a rotor on a mesh without a rotor zone)", "a [rotor] only with mesh.generator = \"rotor_stator\""))
+                }
+                _ => {}
+            }
+        }
+        if self.fluid.is_some() != self.mesh.is_some() {
+            let missing = if self.fluid.is_some() { "mesh" } else { "fluid" };
+            return Err(FieldError::new(missing, "(missing)", "[fluid] and [mesh] together: a fluid needs a mesh and a mesh needs a fluid"));
+        }
+        if self.fluid.is_none() && self.particles.is_none() {
+            return Err(FieldError::new("fluid", "(missing)", "a [fluid] with a [mesh], or [particles], or both"));
+        }
+        if let Some(mesh) = &self.mesh {
+            let patches = mesh.boundary_patches();
+            for name in self.boundary.keys() {
+                if !patches.iter().any(|p| p == name) {
+                    return Err(FieldError::new(format!("boundary.{name}"), format!("{name:?}"), format!("a patch of this mesh: {}", patches.join(", "))));
+                }
+            }
+            for p in &patches {
+                if !self.boundary.contains_key(p) {
+                    return Err(FieldError::new("boundary", format!("(no [boundary.{p}])"), format!("a condition for every patch: {}", patches.join(", "))));
+                }
+            }
+        }
+        for (name, bc) in &self.boundary {
+            bc.validate(&format!("boundary.{name}"))?;
+        }
+        if let Some(particles) = &self.particles {
+            particles.validate()?;
+        }
+        for (i, wall) in self.walls.iter().enumerate() {
+            wall.validate(i)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,36 @@
+//! The interface both solvers implement.
+
+use crate::state::State;
+
+/// What one step did, for the progress bar and the time series.
+#[derive(Clone, Debug, Default)]
+pub struct StepReport {
+    /// Named scalar diagnostics of this step (continuity error, Courant number, kinetic
+    /// energy, outer iterations, particle counts…), in a fixed order.
+    pub values: Vec<(&'static str, f64)>,
+}
+
+/// Why a step failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SolverError {
+    #[error("the case cannot be run by this solver: {0}")]
+    Unsupported(String),
+    #[error("the solution diverged at step {step} (t = {time} s): {what}")]
+    Diverged { step: u64, time: f64, what: String },
+    #[error("a linear solve failed: {0}")]
+    LinearSolve(String),
+}
+
+/// One time-stepping solver of the spillage model.
+pub trait Solver {
+    /// `"reference"` or `"fast"`.
+    fn name(&self) -> &'static str;
+    /// Advances the state by one time step.
+    fn step(&mut self) -> Result<StepReport, SolverError>;
+    /// The current state.
+    fn state(&self) -> &State;
+    /// The mesh at the current time (rotor turned), for output; `None` for particle-only runs.
+    fn mesh(&self) -> Option<&crate::mesh::Mesh> {
+        None
+    }
+}

@@ -1,0 +1,4 @@
+//! Wall state (placeholder until the DEM work defines it).
+
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct WallState {}
