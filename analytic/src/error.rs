@@ -12,7 +12,9 @@ pub enum AnalyticError {
         allowed: &'static str,
     },
     /// A bracketed root search was given an interval without a sign change.
-    #[error("no root of {what} in [{lower}, {upper}]: the function has the same sign at both ends")]
+    #[error(
+        "no root of {what} in [{lower}, {upper}]: the function has the same sign at both ends"
+    )]
     NoBracket {
         what: &'static str,
         lower: f64,
@@ -38,7 +40,11 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(AnalyticError::OutOfRange { name, value, allowed: "finite and > 0" })
+        Err(AnalyticError::OutOfRange {
+            name,
+            value,
+            allowed: "finite and > 0",
+        })
     }
 }
 
@@ -47,7 +53,11 @@ pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(AnalyticError::OutOfRange { name, value, allowed: "finite and >= 0" })
+        Err(AnalyticError::OutOfRange {
+            name,
+            value,
+            allowed: "finite and >= 0",
+        })
     }
 }
 
@@ -56,7 +66,11 @@ pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(AnalyticError::OutOfRange { name, value, allowed: "a finite number" })
+        Err(AnalyticError::OutOfRange {
+            name,
+            value,
+            allowed: "a finite number",
+        })
     }
 }
 
@@ -71,7 +85,11 @@ pub(crate) fn in_closed(
     if value.is_finite() && value >= lower && value <= upper {
         Ok(value)
     } else {
-        Err(AnalyticError::OutOfRange { name, value, allowed })
+        Err(AnalyticError::OutOfRange {
+            name,
+            value,
+            allowed,
+        })
     }
 }
 
@@ -86,7 +104,11 @@ pub(crate) fn in_open(
     if value.is_finite() && value > lower && value < upper {
         Ok(value)
     } else {
-        Err(AnalyticError::OutOfRange { name, value, allowed })
+        Err(AnalyticError::OutOfRange {
+            name,
+            value,
+            allowed,
+        })
     }
 }
 
@@ -98,7 +120,10 @@ mod tests {
     fn messages_name_parameter_value_and_range() {
         let err = in_open("alpha", 1.5, 0.0, 1.0, "in (0, 1)").unwrap_err();
         let text = err.to_string();
-        assert!(text.contains("alpha") && text.contains("1.5") && text.contains("(0, 1)"), "{text}");
+        assert!(
+            text.contains("alpha") && text.contains("1.5") && text.contains("(0, 1)"),
+            "{text}"
+        );
         assert!(positive("d", f64::NAN).is_err());
         assert!(non_negative("q", -1e-30).is_err());
         assert_eq!(non_negative("q", 0.0), Ok(0.0));

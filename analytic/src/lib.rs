@@ -20,6 +20,9 @@
 //! - [`channel_flows`]: Poiseuille/Couette channel, Taylor–Green vortex, hydrostatics.
 //! - helpers: [`roots`], [`ode`], [`special`], [`error`].
 
+// Input checks are written `!(x > 0.0)` on purpose so that NaN is rejected too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod channel_flows;
 pub mod couette;
 pub mod drag_laws;

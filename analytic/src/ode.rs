@@ -80,7 +80,11 @@ where
             let step = 0.5 * (lo + hi);
             let state = rk4_step(f, t, &y, step);
             watch_max = watch_max.max(watch(&state));
-            return Ok(EventHit { time: t + step, state, watch_max });
+            return Ok(EventHit {
+                time: t + step,
+                state,
+                watch_max,
+            });
         }
         y = next;
         t += h;
@@ -194,15 +198,16 @@ pub fn dopri_at_times<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
             let k6 = f(t + step, &s);
             let mut y_new = [0.0; N];
             for i in 0..N {
-                y_new[i] = y[i]
-                    + step * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
+                y_new[i] =
+                    y[i] + step * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
             }
             let k7 = f(t + step, &y_new);
             let mut error_norm = 0.0f64;
             for i in 0..N {
                 let err = step
                     * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
-                let scale = tolerance.absolute + tolerance.relative * y[i].abs().max(y_new[i].abs());
+                let scale =
+                    tolerance.absolute + tolerance.relative * y[i].abs().max(y_new[i].abs());
                 error_norm = error_norm.max((err / scale).abs());
             }
             if !error_norm.is_finite() {
@@ -213,7 +218,11 @@ pub fn dopri_at_times<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
                 t += step;
                 y = y_new;
             }
-            let factor = if error_norm == 0.0 { 5.0 } else { 0.9 * error_norm.powf(-0.2) };
+            let factor = if error_norm == 0.0 {
+                5.0
+            } else {
+                0.9 * error_norm.powf(-0.2)
+            };
             h = step * factor.clamp(0.2, 5.0);
         }
         out.push(y);
@@ -245,11 +254,19 @@ mod tests {
     fn dopri_hits_output_times_of_harmonic_oscillator() {
         let f = |_t: f64, y: &[f64; 2]| [y[1], -y[0]];
         let times = [0.5, 1.0, 10.0];
-        let tol = Tolerance { relative: 1e-12, absolute: 1e-14 };
+        let tol = Tolerance {
+            relative: 1e-12,
+            absolute: 1e-14,
+        };
         let states = dopri_at_times(&f, 0.0, [1.0, 0.0], &times, tol).unwrap();
         for (t, y) in times.iter().zip(states.iter()) {
             // Global error accumulates over ~10 periods of steps at 1e-12 local tolerance.
-            assert!((y[0] - t.cos()).abs() < 1e-10, "t={t}: {} vs {}", y[0], t.cos());
+            assert!(
+                (y[0] - t.cos()).abs() < 1e-10,
+                "t={t}: {} vs {}",
+                y[0],
+                t.cos()
+            );
             assert!((y[1] + t.sin()).abs() < 1e-10);
         }
     }
@@ -267,7 +284,10 @@ mod tests {
     #[test]
     fn dopri_rejects_descending_times() {
         let f = |_t: f64, y: &[f64; 1]| [-y[0]];
-        let tol = Tolerance { relative: 1e-8, absolute: 1e-10 };
+        let tol = Tolerance {
+            relative: 1e-8,
+            absolute: 1e-10,
+        };
         assert!(dopri_at_times(&f, 0.0, [1.0], &[1.0, 0.5], tol).is_err());
     }
 }

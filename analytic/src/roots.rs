@@ -96,7 +96,11 @@ pub fn brent<F: FnMut(f64) -> f64>(
             });
         }
     }
-    Err(AnalyticError::NoConvergence { what, iterations: MAX_ITERATIONS, residual: fb })
+    Err(AnalyticError::NoConvergence {
+        what,
+        iterations: MAX_ITERATIONS,
+        residual: fb,
+    })
 }
 
 /// Starting from `[lower, upper]`, multiplies `upper` by `factor` until `f` changes sign between

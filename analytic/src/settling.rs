@@ -70,7 +70,14 @@ impl SettlingSphere {
                 allowed: "greater than fluid_density (the sphere must sink)",
             });
         }
-        Ok(Self { diameter, particle_density, fluid_density, kinematic_viscosity, gravity, added_mass_coefficient })
+        Ok(Self {
+            diameter,
+            particle_density,
+            fluid_density,
+            kinematic_viscosity,
+            gravity,
+            added_mass_coefficient,
+        })
     }
 
     /// Case P1 (particle-verification.md §2): 10 mm quartz sphere (2650 kg/m³) in water at 20 °C
@@ -153,7 +160,8 @@ impl SettlingSphere {
 
     /// Stokes relaxation time with added mass, τ = (ρ_p + C_AM ρ_f) d²/(18 μ).
     pub fn stokes_relaxation_time(&self) -> f64 {
-        (self.particle_density + self.added_mass_coefficient * self.fluid_density) * self.diameter.powi(2)
+        (self.particle_density + self.added_mass_coefficient * self.fluid_density)
+            * self.diameter.powi(2)
             / (18.0 * self.dynamic_viscosity())
     }
 
@@ -161,9 +169,16 @@ impl SettlingSphere {
     /// u = u_t (1 − e^(−t/τ)), x = u_t (t − τ (1 − e^(−t/τ))).
     pub fn stokes_transient(&self, time: f64) -> Result<SettlingSample> {
         non_negative("time", time)?;
-        let (ut, tau) = (self.stokes_terminal_velocity(), self.stokes_relaxation_time());
+        let (ut, tau) = (
+            self.stokes_terminal_velocity(),
+            self.stokes_relaxation_time(),
+        );
         let decay = (-time / tau).exp();
-        Ok(SettlingSample { time, velocity: ut * (1.0 - decay), distance: ut * (time - tau * (1.0 - decay)) })
+        Ok(SettlingSample {
+            time,
+            velocity: ut * (1.0 - decay),
+            distance: ut * (time - tau * (1.0 - decay)),
+        })
     }
 
     /// Terminal velocity: the root of V_p(ρ_p − ρ_f)g = ½ C_d(Re) A_p ρ_f u² found by Brent's
@@ -174,12 +189,29 @@ impl SettlingSphere {
             Ok(drag) => weight - drag,
             Err(_) => f64::NAN,
         };
-        let first_guess = self.stokes_terminal_velocity().min(1.0).max(1e-12);
+        let first_guess = self.stokes_terminal_velocity().clamp(1e-12, 1.0);
         let lower = first_guess * 1e-6;
-        let (lo, hi) = expand_upper("terminal-velocity force balance", residual, lower, first_guess, 2.0, 200)?;
-        let velocity = brent("terminal-velocity force balance", residual, lo, hi, 1e-15 * hi)?;
+        let (lo, hi) = expand_upper(
+            "terminal-velocity force balance",
+            residual,
+            lower,
+            first_guess,
+            2.0,
+            200,
+        )?;
+        let velocity = brent(
+            "terminal-velocity force balance",
+            residual,
+            lo,
+            hi,
+            1e-15 * hi,
+        )?;
         let reynolds = self.reynolds(velocity);
-        Ok(TerminalVelocity { velocity, reynolds, drag_coefficient: law.drag_coefficient(reynolds)? })
+        Ok(TerminalVelocity {
+            velocity,
+            reynolds,
+            drag_coefficient: law.drag_coefficient(reynolds)?,
+        })
     }
 
     /// Right-hand side of the settling ODE for state [x, u].
@@ -209,14 +241,27 @@ impl SettlingSphere {
         for &t in times {
             non_negative("time", t)?;
         }
-        crate::error::in_closed("relative_tolerance", relative_tolerance, 1e-15, 1e-2, "in [1e-15, 1e-2]")?;
+        crate::error::in_closed(
+            "relative_tolerance",
+            relative_tolerance,
+            1e-15,
+            1e-2,
+            "in [1e-15, 1e-2]",
+        )?;
         let rhs = self.settling_rhs(law);
-        let tolerance = Tolerance { relative: relative_tolerance, absolute: 1e-30 };
+        let tolerance = Tolerance {
+            relative: relative_tolerance,
+            absolute: 1e-30,
+        };
         let states = dopri_at_times(&rhs, 0.0, [0.0, 0.0], times, tolerance)?;
         Ok(times
             .iter()
             .zip(states)
-            .map(|(&time, y)| SettlingSample { time, velocity: y[1], distance: y[0] })
+            .map(|(&time, y)| SettlingSample {
+                time,
+                velocity: y[1],
+                distance: y[0],
+            })
             .collect())
     }
 
@@ -264,12 +309,14 @@ impl SettlingSphere {
     /// thesis wrote its reference (§12.2 [R]: needed to reproduce its 0.00784 m/s error figure).
     pub fn buoyant_mass_stokes_velocity(&self, time: f64) -> Result<f64> {
         non_negative("time", time)?;
-        Ok(self.stokes_terminal_velocity() * (1.0 - (-time / self.buoyant_mass_relaxation_time()).exp()))
+        Ok(self.stokes_terminal_velocity()
+            * (1.0 - (-time / self.buoyant_mass_relaxation_time()).exp()))
     }
 
     /// τ_b = 2R²(ρ_p − ρ_f)/(9μ) = (ρ_p − ρ_f) d²/(18μ) (wear-model.md §12.2, A26: 0.0133333 s).
     pub fn buoyant_mass_relaxation_time(&self) -> f64 {
-        (self.particle_density - self.fluid_density) * self.diameter.powi(2) / (18.0 * self.dynamic_viscosity())
+        (self.particle_density - self.fluid_density) * self.diameter.powi(2)
+            / (18.0 * self.dynamic_viscosity())
     }
 
     /// Discrete reference for an implicit-Euler Stokes drag update with step `dt` and the
@@ -290,14 +337,20 @@ mod tests {
     fn p1_terminal_velocity_matches_thesis() {
         // particle-verification.md §2: thesis Table 6.3 0.736 m/s; [derived] 0.73577, Re 7332.8,
         // C_d 0.39982. Tolerances: half a unit in the last printed digit.
-        let tv = SettlingSphere::case_p1().terminal_velocity(DragLaw::BrownLawler).unwrap();
+        let tv = SettlingSphere::case_p1()
+            .terminal_velocity(DragLaw::BrownLawler)
+            .unwrap();
         assert!((tv.velocity - 0.736).abs() < 5e-4);
         assert!((tv.velocity - 0.73577).abs() < 5e-6, "{}", tv.velocity);
         assert!((tv.reynolds - 7332.8).abs() < 0.05);
         assert!((tv.drag_coefficient - 0.39982).abs() < 5e-6);
         // Other laws (§2): Dallavalle 0.6757, Schiller–Naumann 0.7014 m/s.
-        let dv = SettlingSphere::case_p1().terminal_velocity(DragLaw::Dallavalle).unwrap();
-        let sn = SettlingSphere::case_p1().terminal_velocity(DragLaw::SchillerNaumann).unwrap();
+        let dv = SettlingSphere::case_p1()
+            .terminal_velocity(DragLaw::Dallavalle)
+            .unwrap();
+        let sn = SettlingSphere::case_p1()
+            .terminal_velocity(DragLaw::SchillerNaumann)
+            .unwrap();
         assert!((dv.velocity - 0.6757).abs() < 5e-5 && (sn.velocity - 0.7014).abs() < 5e-5);
     }
 
@@ -310,13 +363,31 @@ mod tests {
         let samples = sphere.transient(DragLaw::BrownLawler, &times).unwrap();
         let expected = [0.24687, 0.44529, 0.65420, 0.66464, 0.71573, 0.73466];
         for (s, u) in samples.iter().zip(expected) {
-            assert!((s.velocity - u).abs() < 5e-6, "u({}) = {} vs {u}", s.time, s.velocity);
+            assert!(
+                (s.velocity - u).abs() < 5e-6,
+                "u({}) = {} vs {u}",
+                s.time,
+                s.velocity
+            );
         }
-        assert!((samples[3].distance - 0.08728).abs() < 5e-6, "x(0.21) = {}", samples[3].distance);
-        assert!((samples[6].distance - 0.6635).abs() < 5e-5, "x(1.0) = {}", samples[6].distance);
+        assert!(
+            (samples[3].distance - 0.08728).abs() < 5e-6,
+            "x(0.21) = {}",
+            samples[3].distance
+        );
+        assert!(
+            (samples[6].distance - 0.6635).abs() < 5e-5,
+            "x(1.0) = {}",
+            samples[6].distance
+        );
         // 99 % of the terminal velocity after 0.370 s (printed to 3 decimals).
-        let ut = sphere.terminal_velocity(DragLaw::BrownLawler).unwrap().velocity;
-        let (t99, _) = sphere.time_and_distance_to_speed(DragLaw::BrownLawler, 0.99 * ut).unwrap();
+        let ut = sphere
+            .terminal_velocity(DragLaw::BrownLawler)
+            .unwrap()
+            .velocity;
+        let (t99, _) = sphere
+            .time_and_distance_to_speed(DragLaw::BrownLawler, 0.99 * ut)
+            .unwrap();
         assert!((t99 - 0.370).abs() < 5e-4, "t99 = {t99}");
     }
 
@@ -326,7 +397,9 @@ mod tests {
         // t(u) by quadrature. Agreement to 1e-9 s checks both.
         let sphere = SettlingSphere::case_p1();
         let sample = sphere.transient(DragLaw::BrownLawler, &[0.25]).unwrap()[0];
-        let (t, x) = sphere.time_and_distance_to_speed(DragLaw::BrownLawler, sample.velocity).unwrap();
+        let (t, x) = sphere
+            .time_and_distance_to_speed(DragLaw::BrownLawler, sample.velocity)
+            .unwrap();
         assert!((t - 0.25).abs() < 1e-9, "t = {t}");
         assert!((x - sample.distance).abs() < 1e-9);
     }
@@ -339,7 +412,9 @@ mod tests {
         let sphere = SettlingSphere::new(1e-4, 2650.0, 998.2, 1.0034e-6, 9.81, 0.5).unwrap();
         let tau = sphere.stokes_relaxation_time();
         let times: Vec<f64> = [0.1, 0.5, 1.0, 3.0, 8.0].iter().map(|k| k * tau).collect();
-        let numeric = sphere.transient_with_tolerance(DragLaw::Stokes, &times, 1e-14).unwrap();
+        let numeric = sphere
+            .transient_with_tolerance(DragLaw::Stokes, &times, 1e-14)
+            .unwrap();
         let ut = sphere.stokes_terminal_velocity();
         for s in numeric {
             let exact = sphere.stokes_transient(s.time).unwrap();
@@ -366,11 +441,17 @@ mod tests {
         assert!((v3 - 0.080403).abs() < 1e-6);
         let errors: Vec<f64> = (1..=50)
             .map(|n| {
-                let exact = sphere.buoyant_mass_stokes_velocity(n as f64 * 0.005).unwrap();
+                let exact = sphere
+                    .buoyant_mass_stokes_velocity(n as f64 * 0.005)
+                    .unwrap();
                 (sphere.implicit_euler_stokes_velocity(n, 0.005).unwrap() - exact).abs()
             })
             .collect();
-        let (n_max, e_max) = errors.iter().enumerate().fold((0, 0.0), |acc, (i, &e)| if e > acc.1 { (i + 1, e) } else { acc });
+        let (n_max, e_max) =
+            errors.iter().enumerate().fold(
+                (0, 0.0),
+                |acc, (i, &e)| if e > acc.1 { (i + 1, e) } else { acc },
+            );
         assert_eq!(n_max, 3);
         assert!((e_max - 0.0078427).abs() < 1e-7, "thesis 0.00784");
         let v28 = sphere.implicit_euler_stokes_velocity(28, 0.005).unwrap();
@@ -388,15 +469,24 @@ mod tests {
         let tv = steel.terminal_velocity(DragLaw::BrownLawler).unwrap();
         assert!((tv.velocity - 0.5766).abs() < 5e-5, "{}", tv.velocity);
         let teflon = SettlingSphere::new(6e-3, 2150.0, 1.2, 1.5417e-5, 9.81, 0.5).unwrap();
-        let (t, x) = teflon.time_and_distance_to_speed(DragLaw::BrownLawler, 1.01).unwrap();
-        assert!((t - 0.1032).abs() < 5e-5 && (x - 0.0522).abs() < 5e-5, "t={t}, x={x}");
+        let (t, x) = teflon
+            .time_and_distance_to_speed(DragLaw::BrownLawler, 1.01)
+            .unwrap();
+        assert!(
+            (t - 0.1032).abs() < 5e-5 && (x - 0.0522).abs() < 5e-5,
+            "t={t}, x={x}"
+        );
     }
 
     #[test]
     fn bad_inputs_are_rejected() {
         assert!(SettlingSphere::new(0.01, 900.0, 998.2, 1e-6, 9.81, 0.5).is_err());
         assert!(SettlingSphere::new(-0.01, 2650.0, 998.2, 1e-6, 9.81, 0.5).is_err());
-        assert!(SettlingSphere::case_p1().transient(DragLaw::BrownLawler, &[-1.0]).is_err());
-        assert!(SettlingSphere::case_p1().time_and_distance_to_speed(DragLaw::BrownLawler, 0.9).is_err());
+        assert!(SettlingSphere::case_p1()
+            .transient(DragLaw::BrownLawler, &[-1.0])
+            .is_err());
+        assert!(SettlingSphere::case_p1()
+            .time_and_distance_to_speed(DragLaw::BrownLawler, 0.9)
+            .is_err());
     }
 }
