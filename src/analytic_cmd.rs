@@ -245,7 +245,7 @@ const SOLUTIONS: &[Solution] = &[
     },
     Solution {
         name: "erosion",
-        summary: "erosion per impact vs angle: Arabnejad (+ DNV, E/CRC, Finnie, Oka) (wear §6)",
+        summary: "erosion per impact vs angle: Arabnejad, with DNV and E/CRC columns (wear §6)",
         params: &[
             p(
                 "angle",
