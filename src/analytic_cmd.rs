@@ -613,7 +613,7 @@ fn draw(report: &Report, path: &Path) -> std::io::Result<()> {
             })
             .collect(),
     };
-    write_png(&plot, path)
+    write_png(&plot, path).map_err(std::io::Error::from)
 }
 
 fn plot_spec(title: &str, x: &str, y: &str, log_x: bool, curves: Vec<Curve>) -> Option<PlotSpec> {
