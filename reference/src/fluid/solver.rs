@@ -288,9 +288,7 @@ impl ReferenceFluid {
 
 /// Turns the rotor zone to `angle` (from its reference geometry, so no drift accumulates).
 fn set_zone_angle(mesh: &mut Mesh, zone: usize, angle: f64) -> Result<(), SolverError> {
-    // TODO(mesh merge): mesh.set_zone_angle(zone, angle)
-    let _ = (mesh, zone, angle);
-    Err(SolverError::Unsupported("rotor motion needs Mesh::set_zone_angle (mesh branch)".into()))
+    mesh.set_zone_angle(zone, angle).map_err(|e| SolverError::Unsupported(format!("cannot rotate the rotor zone: {e}")))
 }
 
 impl Solver for ReferenceFluid {
