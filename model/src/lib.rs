@@ -5,10 +5,12 @@
 //! [`solver::Solver`] trait; output writers.
 
 pub mod case;
+pub mod checkpoint;
 pub mod fluid;
 pub mod mesh;
 pub mod output;
 pub mod particles;
 pub mod solver;
 pub mod state;
+pub mod state_diff;
 pub mod walls;

@@ -147,6 +147,23 @@ impl BoundaryCondition {
     }
 }
 
+
+impl BoundaryCondition {
+    /// Largest speed this condition imposes, given the largest radius of the mesh (for walls
+    /// turning in place). `None` when it imposes no velocity. A wall with `rotating = true`
+    /// moves with the rotor, whose speed the caller adds.
+    pub fn imposed_speed(&self, r_max: f64) -> Option<f64> {
+        let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        match self {
+            BoundaryCondition::Wall { velocity, angular_velocity, origin, .. } => {
+                Some(norm(velocity) + angular_velocity.abs() * (r_max + norm(origin)))
+            }
+            BoundaryCondition::VelocityInlet { velocity } => Some(norm(velocity)),
+            BoundaryCondition::PressureOutlet { .. } | BoundaryCondition::Symmetry => None,
+        }
+    }
+}
+
 /// Convection scheme for the momentum equation (spec §8.10).
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
