@@ -97,6 +97,30 @@ impl ReferenceFluid {
         &self.mesh
     }
 
+    /// Cell gradient of the kinematic pressure, ∇P (Gauss, linear face values, the stored
+    /// boundary pressures): the gradient the momentum equation uses.
+    pub fn pressure_gradient(&self) -> Vec<Vec3> {
+        let geo = self.geometry();
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let p_boundary: Vec<f64> = geo.boundary.iter().map(|face| fluid.boundary_pressure[face.index]).collect();
+        super::gradient::scalar_gradient(&geo, &self.mesh.cell_volumes, &fluid.pressure, &p_boundary)
+    }
+
+    /// Per-cell continuity error e_c = ∂α/∂t V + Σ α_f φ_f of the stored state, without the
+    /// ∂α/∂t part (single phase) [m³/s]; on overlap links the stored face sums are used.
+    pub fn flux_divergence(&self) -> Vec<f64> {
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let mut div = vec![0.0; self.mesh.cell_volumes.len()];
+        for f in 0..self.mesh.face_areas.len() {
+            let owner = self.mesh.face_owner[f];
+            div[owner] += fluid.flux[f];
+            if f < self.mesh.n_internal_faces {
+                div[self.mesh.face_neighbour[f]] -= fluid.flux[f];
+            }
+        }
+        div
+    }
+
     fn check_sizes(&self) -> Result<(), SolverError> {
         let f = self.state.fluid.as_ref().expect("fluid state");
         let n = self.mesh.cell_volumes.len();
