@@ -58,3 +58,74 @@ fn debug_step() {
         match s.step() { Ok(r) => eprintln!("{:?}", r.values), Err(e) => { eprintln!("{e}"); break } }
     }
 }
+
+#[test]
+#[ignore]
+fn couette_wall_velocity_full() {
+    let rows = run_case(&case("couette_wall_velocity.toml"), true).unwrap();
+    print_rows(&rows);
+}
+
+#[test]
+fn couette_sliding() {
+    check("couette_sliding.toml");
+}
+
+#[test]
+fn free_stream_interface() {
+    check("free_stream_interface.toml");
+}
+
+#[test]
+fn free_stream_rotating() {
+    check("free_stream_rotating.toml");
+}
+
+#[test]
+fn poiseuille_periodic() {
+    check("poiseuille_periodic.toml");
+}
+
+#[test]
+fn poiseuille_periodic_graded() {
+    check("poiseuille_periodic_graded.toml");
+}
+
+#[test]
+fn poiseuille_inlet_outlet() {
+    check("poiseuille_inlet_outlet.toml");
+}
+
+#[test]
+fn taylor_green() {
+    check("taylor_green.toml");
+}
+
+#[test]
+#[ignore]
+fn debug_rotating() {
+    use spillage_model::solver::Solver;
+    let c = case("free_stream_rotating.toml");
+    let mesh = spillage::verify::fluid::build_mesh(&c).unwrap();
+    let mut s = spillage_reference::fluid::ReferenceFluid::new(&c, mesh, Default::default()).unwrap();
+    s.step().unwrap();
+    let geo = s.geometry();
+    // closure of every cell, and mesh-flux sums
+    let n = geo.n_cells();
+    let mut close = vec![spillage_model::mesh::Vec3::zeros(); n];
+    let mut mf = vec![0.0; n];
+    for l in &geo.links { close[l.owner] += l.area; close[l.neighbour] -= l.area; mf[l.owner] += l.mesh_flux; mf[l.neighbour] -= l.mesh_flux; }
+    for b in &geo.boundary { close[b.cell] += b.area; mf[b.cell] += b.mesh_flux; }
+    let worst = close.iter().map(|v| v.norm()).fold(0.0, f64::max);
+    eprintln!("closure (no empty faces, xy only) max {:e}; mesh flux sum max {:e}", worst, mf.iter().map(|v| v.abs()).fold(0.0, f64::max));
+    for (c, v) in close.iter().enumerate() { if v.norm() > 1e-12 { eprintln!("open cell {c} {:?}", v); } }
+    for l in &geo.links { if l.owner == 40 || l.neighbour == 40 { eprintln!("{:?}", l); } }
+    for step in 0..3 {
+        let r = s.step().unwrap();
+        let f = s.state().fluid.as_ref().unwrap();
+        let mut worst = (0.0, 0);
+        for (c, u) in f.velocity.iter().enumerate() { let d = ((u[0]-1.0).powi(2) + (u[1]-0.3).powi(2)).sqrt(); if d > worst.0 { worst = (d, c); } }
+        if step == 0 { for (c, u) in f.velocity.iter().enumerate() { let d = ((u[0]-1.0).powi(2) + (u[1]-0.3).powi(2)).sqrt(); if d > 1e-7 { eprintln!("cell {c} dev {d:e} p {:e}", f.pressure[c]); } } }
+        eprintln!("step {step} worst {:e} at cell {} (rotor cells < {}) {:?}", worst.0, worst.1, s.mesh().zones[0].cells.len(), r.values[6]);
+    }
+}

@@ -369,10 +369,153 @@ fn free_stream(case: &Case) -> Result<Vec<CheckRow>> {
 // ---------------------------------------------------------------------------------------------
 // plane Poiseuille flow
 
-fn poiseuille(case: &Case, _full: bool) -> Result<Vec<CheckRow>> {
-    bail!("{}: fluid_poiseuille is not implemented yet", case.case.name)
+/// Box mesh level: `cells[dir] = n` for the wall-normal direction y, x scaled alike if
+/// `scale_x` (inlet/outlet channels keep the cell aspect ratio).
+fn box_level(case: &Case, n_y: usize, scale_x: bool) -> Result<Case> {
+    let mut c = case.clone();
+    match c.mesh.as_mut() {
+        Some(MeshSection::Box { cells, .. }) => {
+            if scale_x {
+                cells[0] = cells[0] * n_y / cells[1];
+            }
+            cells[1] = n_y;
+        }
+        _ => bail!("the channel check needs mesh.generator = \"box\""),
+    }
+    Ok(c)
 }
 
-fn taylor_green(case: &Case, _full: bool) -> Result<Vec<CheckRow>> {
-    bail!("{}: fluid_taylor_green is not implemented yet", case.case.name)
+/// Plane Poiseuille flow between walls at y = y_min and y_max, along x.
+///
+/// Periodic variant (`drive = "body_force"`): u = g/(2ν)(y − y₀)(H − (y − y₀)). Inlet/outlet
+/// variant (`drive = "inlet"`): the developed profile of mean velocity U, u = 6U η(H − η)/H².
+///
+/// On a *uniform* mesh the exact solution of the discrete equations is known in closed form:
+/// the cell-centre parabola satisfies the interior three-point Laplacian exactly, and the
+/// two-point wall gradient (u₁ − 0)/(h/2) is short of the exact wall shear by a constant, so the
+/// discrete profile is the parabola shifted by δ = g h²/(8ν) (periodic, fixed g), or, at fixed
+/// flow rate, u_i = 6U/(H² + h²)·[η_i(H − η_i) + h²/4]. The uniform levels are compared with this
+/// discrete solution to solver tolerance, and the graded levels with the exact profile for the
+/// observed order.
+fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
+    let name = &case.case.name;
+    let Some(MeshSection::Box { min, max, grading, .. }) = case.mesh.as_ref() else { bail!("needs a box mesh") };
+    let (y0, height) = (min[1], max[1] - min[1]);
+    let nu = case.fluid.as_ref().ok_or_else(|| anyhow!("no [fluid]"))?.kinematic_viscosity;
+    let params = &case.verify.as_ref().ok_or_else(|| anyhow!("no [verify]"))?.params;
+    let drive = params.get("drive").and_then(|v| v.as_str()).unwrap_or("body_force");
+    let uniform = grading[1] == 1.0;
+    let (g, mean_u) = match drive {
+        "body_force" => (case.numerics.body_force[0], None),
+        "inlet" => match case.boundary.get("x_min") {
+            Some(BoundaryCondition::VelocityInlet { velocity }) => (0.0, Some(velocity[0])),
+            _ => bail!("drive = \"inlet\" needs a velocity_inlet on x_min"),
+        },
+        other => bail!("[verify.params] drive = {other:?}: expected \"body_force\" or \"inlet\""),
+    };
+    // cells compared: those with x in [x_lo, x_hi] (fraction of the length), all for periodic
+    let x_lo = param_f64_or(case, "compare_x_from", 0.0);
+    let x_hi = param_f64_or(case, "compare_x_to", 1.0);
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    for (level, dt) in levels(case, full)? {
+        let n_y = level[0] as usize;
+        let c = with_dt(&box_level(case, n_y, drive == "inlet")?, dt);
+        let (solver, _) = run(&c)?;
+        let mesh = solver.mesh();
+        let fluid = solver.state().fluid.as_ref().expect("fluid state");
+        let h = height / n_y as f64;
+        let (mut sum2, mut count, mut max_err, mut u_max) = (0.0, 0usize, 0.0f64, 0.0f64);
+        for cell in 0..mesh.cell_volumes.len() {
+            let x = mesh.cell_centres[cell];
+            let fx = (x.x - min[0]) / (max[0] - min[0]);
+            if fx < x_lo || fx > x_hi {
+                continue;
+            }
+            let eta = x.y - y0;
+            let (exact, discrete) = match mean_u {
+                None => {
+                    let e = g / (2.0 * nu) * eta * (height - eta);
+                    (e, e + g * h * h / (8.0 * nu))
+                }
+                Some(u) => (
+                    6.0 * u * eta * (height - eta) / (height * height),
+                    6.0 * u / (height * height + h * h) * (eta * (height - eta) + h * h / 4.0),
+                ),
+            };
+            let target = if uniform { discrete } else { exact };
+            let err = fluid.velocity[cell][0] - target;
+            sum2 += (fluid.velocity[cell][0] - exact).powi(2);
+            count += 1;
+            max_err = max_err.max(err.abs());
+            u_max = u_max.max(exact.abs());
+        }
+        let rms = (sum2 / count as f64).sqrt() / u_max;
+        if uniform {
+            let tol = param_f64(case, "discrete_tolerance")?;
+            rows.push(CheckRow::at_most(name, format!("max |u − u_discrete|/u_max, uniform {n_y} cells"), "reference", max_err / u_max, tol));
+        }
+        rows.push(CheckRow::at_most(name, format!("rms |u − u_exact|/u_max {n_y} cells"), "reference", rms, f64::INFINITY));
+        errors.push((n_y as f64, rms));
+    }
+    if let Ok(min_order) = param_f64(case, "min_order_u") {
+        for w in errors.windows(2) {
+            let p = observed_order(w[0].1, w[1].1, w[1].0 / w[0].0);
+            rows.push(CheckRow::at_least(name, format!("observed order u {}→{} cells", w[0].0, w[1].0), "reference", p, min_order));
+        }
+    }
+    Ok(rows)
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2-D Taylor–Green vortex
+
+/// Periodic box of side 2πL, u = U sin(x/L) cos(y/L) e^{−2νt/L²}, v = −U cos(x/L) sin(y/L) e^{−2νt/L²};
+/// kinetic energy decays as e^{−4νt/L²}. Space and time are refined together (Δt ∝ h).
+fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
+    let name = &case.case.name;
+    let fluid = case.fluid.as_ref().ok_or_else(|| anyhow!("no [fluid]"))?;
+    let InitialVelocity::TaylorGreen { speed, length } = fluid.initial else {
+        bail!("needs fluid.initial.type = \"taylor_green\"")
+    };
+    let nu = fluid.kinematic_viscosity;
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    for (level, dt) in levels(case, full)? {
+        let n = level[0] as usize;
+        let mut c = with_dt(case, dt);
+        if let Some(MeshSection::Box { cells, .. }) = c.mesh.as_mut() {
+            cells[0] = n;
+            cells[1] = n;
+        } else {
+            bail!("needs a box mesh");
+        }
+        let mesh = build_mesh(&c)?;
+        let u0: Vec<Vec3> = mesh.cell_centres.iter().map(|x| Vec3::from(fluid.initial.velocity_at([x.x, x.y, x.z]))).collect();
+        let ke0: f64 = u0.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * u.norm_squared() * v).sum();
+        let (solver, _) = run(&c)?;
+        let t = solver.state().time;
+        let mesh = solver.mesh();
+        let f = solver.state().fluid.as_ref().expect("fluid state");
+        let decay = (-2.0 * nu * t / (length * length)).exp();
+        let ke: f64 = f.velocity.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * Vec3::from(*u).norm_squared() * v).sum();
+        let ke_error = (ke / ke0 - decay * decay).abs();
+        let mut sum2 = 0.0;
+        for (cell, u) in f.velocity.iter().enumerate() {
+            let exact = u0[cell] * decay;
+            sum2 += (Vec3::from(*u) - exact).norm_squared();
+        }
+        let u_rms = (sum2 / f.velocity.len() as f64).sqrt() / speed;
+        rows.push(CheckRow::at_most(name, format!("|KE/KE0 − exp(−4νt/L²)| {n}x{n}"), "reference", ke_error, f64::INFINITY));
+        rows.push(CheckRow::at_most(name, format!("rms |u − u_exact|/U {n}x{n}"), "reference", u_rms, f64::INFINITY));
+        errors.push((n as f64, ke_error, u_rms));
+    }
+    let min_order = param_f64(case, "min_order")?;
+    for w in errors.windows(2) {
+        let h = w[1].0 / w[0].0;
+        let label = format!("{}→{}", w[0].0, w[1].0);
+        rows.push(CheckRow::at_least(name, format!("observed order KE decay {label}"), "reference", observed_order(w[0].1, w[1].1, h), min_order));
+        rows.push(CheckRow::at_least(name, format!("observed order velocity {label}"), "reference", observed_order(w[0].2, w[1].2, h), min_order));
+    }
+    Ok(rows)
 }

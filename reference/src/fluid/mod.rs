@@ -20,8 +20,10 @@
 //!    (ω×(x_f − x_axis))·S_f (exact for planar faces, so Σ_faces = 0 per cell: geometric
 //!    conservation).
 //! 3. Starting values: u* = uᵒ, P* = Pᵒ, boundary P from the state; flux φ* = φᵒ on internal
-//!    faces, interpolated (w u_P + (1−w) u_N)·S on overlap links (the overlaps changed), the
-//!    prescribed flux on velocity boundaries and φᵒ on pressure boundaries.
+//!    faces of static cells, interpolated (w u_P + (1−w) u_N)·S (new geometry) on faces of the
+//!    moving zone and on overlap links (their geometry changed: old fluxes there would leave the
+//!    cells open in the first outer iteration), the prescribed flux on velocity boundaries and
+//!    φᵒ on pressure boundaries.
 //! 4. Outer (SIMPLE) loop k = 1..`max_outer_iterations`:
 //!    a. ∇u* (Gauss, linear face values, boundary values from the conditions).
 //!    b. Momentum matrix ([`momentum::assemble`]): time term c₀αV/Δt on the diagonal, old

@@ -198,12 +198,16 @@ impl ReferenceFluid {
         let mut u = u_old.clone();
         let mut p = fluid.pressure.clone();
         let mut p_boundary: Vec<f64> = geo.boundary.iter().map(|face| fluid.boundary_pressure[face.index]).collect();
+        // faces that moved (rotor zone) or were rebuilt (overlaps) start from the interpolated
+        // velocity on the new geometry; mixing old-geometry fluxes with new faces would open the
+        // cells of the first outer iteration
+        let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         let mut link_flux: Vec<f64> = geo
             .links
             .iter()
             .map(|link| match link.origin {
-                LinkOrigin::Face(f) => fluid.flux[f],
-                LinkOrigin::Interface { .. } => link.interpolate_vec(u[link.owner], u[link.neighbour]).dot(&link.area),
+                LinkOrigin::Face(f) if !moved[link.owner] => fluid.flux[f],
+                _ => link.interpolate_vec(u[link.owner], u[link.neighbour]).dot(&link.area),
             })
             .collect();
         let mut boundary_flux: Vec<f64> =
@@ -226,6 +230,13 @@ impl ReferenceFluid {
                     rhs.push((0..n).map(|c| system.source[c][j] - volumes[c] * grad_p[c][j]).collect::<Vec<f64>>());
                     solved.push(j);
                 }
+            }
+            if std::env::var("SPILLAGE_DEBUG").is_ok() {
+                let ux: Vec<f64> = u.iter().map(|v| v[0]).collect();
+                let mu = system.matrix.multiply(&ux);
+                let worst = (0..n).map(|c| (mu[c] - rhs[0][c]).abs()).fold(0.0, f64::max);
+                let conv: f64 = (0..n).map(|c| { let mut s = 0.0; for &l in &geo.cell_links[c] { let k = &geo.links[l]; let f = link_flux[l] - k.mesh_flux; s += if k.owner == c { f } else { -f }; } for &b in &geo.cell_boundary[c] { s += boundary_flux[b] - geo.boundary[b].mesh_flux; } s.abs() }).fold(0.0, f64::max);
+                eprintln!("|M u* - rhs| max {worst:e}, max |sum F_rel| {conv:e}");
             }
             let solution = system.matrix.solve(&rhs, "momentum predictor")?;
             for (k, j) in solved.iter().enumerate() {
