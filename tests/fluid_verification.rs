@@ -129,3 +129,30 @@ fn debug_rotating() {
         eprintln!("step {step} worst {:e} at cell {} (rotor cells < {}) {:?}", worst.0, worst.1, s.mesh().zones[0].cells.len(), r.values[6]);
     }
 }
+
+/// `cargo test --test fluid_verification full_ladder -- --ignored --nocapture` prints the
+/// `--full` rows of every case named in SPILLAGE_FULL (comma-separated file names).
+#[test]
+#[ignore]
+fn full_ladder() {
+    let names = std::env::var("SPILLAGE_FULL").unwrap_or_default();
+    for name in names.split(',').filter(|s| !s.is_empty()) {
+        eprintln!("== {name}");
+        match run_case(&case(name), true) {
+            Ok(rows) => print_rows(&rows),
+            Err(e) => eprintln!("{name}: {e:#}"),
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn debug_channel() {
+    use spillage_model::solver::Solver;
+    let c = case("poiseuille_inlet_outlet.toml");
+    let mesh = spillage::verify::fluid::build_mesh(&c).unwrap();
+    let mut s = spillage_reference::fluid::ReferenceFluid::new(&c, mesh, Default::default()).unwrap();
+    for _ in 0..60 { s.step().unwrap(); }
+    let f = s.state().fluid.as_ref().unwrap();
+    for i in (0..64).step_by(4) { let row: Vec<String> = (0..8).map(|j| format!("{:.5}", f.velocity[i + 64 * j][0])).collect(); eprintln!("x {:.3} {} v {:.2e} p {:.4}", s.mesh().cell_centres[i].x, row.join(" "), f.velocity[i + 64*3][1], f.pressure[i+64*3]); }
+}

@@ -394,7 +394,7 @@ fn box_level(case: &Case, n_y: usize, scale_x: bool) -> Result<Case> {
 /// the cell-centre parabola satisfies the interior three-point Laplacian exactly, and the
 /// two-point wall gradient (u₁ − 0)/(h/2) is short of the exact wall shear by a constant, so the
 /// discrete profile is the parabola shifted by δ = g h²/(8ν) (periodic, fixed g), or, at fixed
-/// flow rate, u_i = 6U/(H² + h²)·[η_i(H − η_i) + h²/4]. The uniform levels are compared with this
+/// flow rate (midpoint sum of the parabola = H³/6 + h²H/12), u_i = 6U/(H² + 2h²)·[η_i(H − η_i) + h²/4]. The uniform levels are compared with this
 /// discrete solution to solver tolerance, and the graded levels with the exact profile for the
 /// observed order.
 fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
@@ -440,7 +440,7 @@ fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
                 }
                 Some(u) => (
                     6.0 * u * eta * (height - eta) / (height * height),
-                    6.0 * u / (height * height + h * h) * (eta * (height - eta) + h * h / 4.0),
+                    6.0 * u / (height * height + 2.0 * h * h) * (eta * (height - eta) + h * h / 4.0),
                 ),
             };
             let target = if uniform { discrete } else { exact };
