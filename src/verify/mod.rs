@@ -6,6 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod fluid;
+
 use serde::Serialize;
 use spillage_model::case::Case;
 
@@ -69,7 +71,9 @@ pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
 
 /// Each model's verification module lists its checks in `CHECKS` and runs them in `run_check`.
 fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
-    let _ = full;
+    if fluid::CHECKS.contains(&check) {
+        return fluid::run_check(case, check, full);
+    }
     anyhow::bail!(
         "{}: unknown verification check `{check}` in [verify] check; known checks: {}",
         case.path.display(),
@@ -79,7 +83,9 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
 
 /// Names accepted in `[verify] check`.
 pub fn known_checks() -> Vec<&'static str> {
-    Vec::new()
+    let mut checks = Vec::new();
+    checks.extend_from_slice(fluid::CHECKS);
+    checks
 }
 
 /// The case files of the verification ladder, sorted by path.
