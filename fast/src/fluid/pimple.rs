@@ -1,0 +1,829 @@
+//! [`FastFluid`]: one PIMPLE step per call, the algorithm of the reference solver (module doc
+//! of `spillage_reference::fluid`, steps 1–5) on struct-of-arrays fields with iterative solves.
+
+use rayon::prelude::*;
+use spillage_model::case::Case;
+use spillage_model::fluid::settings::{NumericsSection, PressureWallCondition, TimeScheme};
+use spillage_model::fluid::state::FluidState;
+use spillage_model::mesh::{Mesh, Vec3};
+use spillage_model::solver::{Solver, SolverError, StepReport};
+use spillage_model::state::State;
+
+use super::assembly::*;
+use super::conditions::{Condition, Conditions};
+use super::interface::{push_overlaps, Frame};
+use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor};
+use crate::linear::amg::Amg;
+use crate::linear::bicgstab::BiCgStab;
+use crate::linear::pcg::{normalisation, Pcg};
+use crate::linear::reduce::Reducer;
+use crate::linear::{Csr, Jacobi, Tolerance};
+
+/// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
+/// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FastSettings {
+    /// Pressure: AMG-preconditioned CG, normalised residual (OpenFOAM's definition).
+    pub pressure: Tolerance,
+    /// Momentum components: Jacobi-preconditioned BiCGStab.
+    pub momentum: Tolerance,
+}
+
+impl Default for FastSettings {
+    fn default() -> Self {
+        FastSettings {
+            pressure: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
+            momentum: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
+        }
+    }
+}
+
+/// Iteration counts of the last step (for benchmarks).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SolveCounts {
+    pub pressure_solves: usize,
+    pub pressure_iterations: usize,
+    pub momentum_iterations: usize,
+}
+
+#[derive(Default)]
+struct Work {
+    u: [Vec<f64>; 3],
+    u_old: [Vec<f64>; 3],
+    u_oo: [Vec<f64>; 3],
+    p: Vec<f64>,
+    p_start: Vec<f64>,
+    p_work: Vec<f64>,
+    p_b: Vec<f64>,
+    link_flux: Vec<f64>,
+    link_h: Vec<f64>,
+    boundary_flux: Vec<f64>,
+    /// Prescribed boundary flux (NaN where the pressure is fixed).
+    prescribed: Vec<f64>,
+    /// Fixed boundary velocity (NaN where none).
+    fixed_u: Vec<Vec3>,
+    boundary_u: Vec<Vec3>,
+    grad_u: Vec<[Vec3; 3]>,
+    grad_p: Vec<Vec3>,
+    upper: Vec<f64>,
+    lower: Vec<f64>,
+    link_src: Vec<Vec3>,
+    source: Vec<Vec3>,
+    mom: Csr,
+    rhs: [Vec<f64>; 3],
+    offdiag: Vec<f64>,
+    hbya: Vec<Vec3>,
+    rau: Vec<f64>,
+    pcoef: Vec<f64>,
+    ah: Vec<f64>,
+    pres: Csr,
+    prhs: Vec<f64>,
+    ax: Vec<f64>,
+    errors: Vec<f64>,
+    face_sum: Vec<f64>,
+    face_used: Vec<bool>,
+}
+
+/// The fast fluid solver.
+pub struct FastFluid {
+    mesh: Mesh,
+    state: State,
+    conditions: Conditions,
+    numerics: NumericsSection,
+    nu: f64,
+    body_force: Vec3,
+    rotor: Option<Rotor>,
+    frame: Option<Frame>,
+    /// Rotating zone whose angle turns the interfaces.
+    rotating_zone: Option<usize>,
+    dt: f64,
+    settings: FastSettings,
+    in_rotor: Vec<bool>,
+    /// Internal faces of the rotor zone (their geometry is updated in place every step).
+    moving_faces: Vec<usize>,
+    links: Links,
+    boundary: Boundary,
+    adj: Adjacency,
+    solved: [bool; 3],
+    w: Work,
+    pcg: Pcg,
+    bicg: BiCgStab,
+    amg: Amg,
+    red: Reducer,
+    counts: SolveCounts,
+}
+
+fn unsupported(msg: impl Into<String>) -> SolverError {
+    SolverError::Unsupported(msg.into())
+}
+
+impl FastFluid {
+    /// Sets up the solver for `case` on `mesh` (as `ReferenceFluid::new`: without a fluid state
+    /// the fluid starts from the case's initial velocity, zero pressure, α_c = 1).
+    pub fn new(case: &Case, mesh: Mesh, mut state: State) -> Result<Self, SolverError> {
+        let fluid = case.fluid.as_ref().ok_or_else(|| unsupported("the case has no [fluid] section"))?;
+        let dt = case.time.dt.ok_or_else(|| unsupported("the fast fluid solver needs a fixed time step `[time] dt` (max_courant is not supported yet)"))?;
+        let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
+        let numerics = case.numerics.clone();
+        let mut body_force = Vec3::from(numerics.body_force);
+        if numerics.fluid_gravity {
+            body_force += Vec3::from(case.physics.gravity);
+        }
+        let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
+        let frame = rotating_zone.map(|z| {
+            let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
+            Frame::new(r.origin, r.axis)
+        });
+        let rotor = match &case.rotor {
+            Some(section) => {
+                let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| unsupported(format!("rotor.zone = {:?} is not a zone of the mesh", section.zone)))?;
+                if mesh.zones[zone].rotation.is_none() {
+                    return Err(unsupported(format!("mesh zone {:?} cannot rotate", section.zone)));
+                }
+                Some(Rotor { zone, axis: Vec3::from(section.axis).normalize(), origin: Vec3::from(section.origin), omega: section.angular_velocity() })
+            }
+            None => None,
+        };
+        let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, spillage_model::mesh::PatchKind::Interface { .. }));
+        if has_interface_patch && (mesh.interfaces.is_empty() || frame.is_none()) {
+            return Err(unsupported("the mesh has interface patches but no cylindrical sliding-interface description (the fast solver needs the shared z layers)"));
+        }
+
+        let n = mesh.n_cells();
+        if state.fluid.is_none() {
+            let mut f = FluidState::at_rest(n, mesh.n_faces(), mesh.n_internal_faces);
+            for c in 0..n {
+                let x = mesh.cell_centres[c];
+                f.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
+            }
+            f.velocity_old = f.velocity.clone();
+            for face in 0..mesh.n_internal_faces {
+                let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
+                let w = mesh.face_weight[face];
+                let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
+                f.flux[face] = u.dot(&mesh.face_areas[face]);
+            }
+            state.fluid = Some(f);
+        }
+        {
+            let f = state.fluid.as_ref().expect("fluid state");
+            let nf = mesh.n_faces();
+            let ok = f.velocity.len() == n
+                && f.velocity_old.len() == n
+                && f.pressure.len() == n
+                && f.alpha.len() == n
+                && f.alpha_old.len() == n
+                && f.alpha_old_old.len() == n
+                && f.flux.len() == nf
+                && f.boundary_pressure.len() == nf - mesh.n_internal_faces;
+            if !ok {
+                return Err(unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")));
+            }
+        }
+        let mut mesh = mesh;
+        if let Some(r) = &rotor {
+            mesh.set_zone_angle(r.zone, state.rotor_angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
+        }
+        let mut in_rotor = vec![false; n];
+        let mut moving_faces = Vec::new();
+        if let Some(r) = &rotor {
+            for &c in &mesh.zones[r.zone].cells {
+                in_rotor[c] = true;
+            }
+            moving_faces = mesh.zones[r.zone].faces.iter().copied().filter(|&f| f < mesh.n_internal_faces).collect();
+        }
+        let links = Links::from_internal_faces(&mesh, rotor.as_ref(), &in_rotor);
+        let boundary = Boundary::build(&mesh, &conditions, rotor.as_ref(), &in_rotor);
+        let solved = solved_components(&mesh);
+        let mut solver = FastFluid {
+            mesh,
+            state,
+            conditions,
+            numerics,
+            nu: fluid.kinematic_viscosity,
+            body_force,
+            rotor,
+            frame,
+            rotating_zone,
+            dt,
+            settings: FastSettings::default(),
+            in_rotor,
+            moving_faces,
+            links,
+            boundary,
+            adj: Adjacency::default(),
+            solved,
+            w: Work::default(),
+            pcg: Pcg::default(),
+            bicg: BiCgStab::default(),
+            amg: Amg::default(),
+            red: Reducer::default(),
+            counts: SolveCounts::default(),
+        };
+        solver.rebuild_overlaps();
+        solver.size_work();
+        Ok(solver)
+    }
+
+    /// Replaces the linear-solver controls.
+    pub fn with_settings(mut self, settings: FastSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    pub fn settings(&self) -> FastSettings {
+        self.settings
+    }
+
+    /// Iteration counts of the last step.
+    pub fn last_counts(&self) -> SolveCounts {
+        self.counts
+    }
+
+    /// Overlap links of the current rotor position and the adjacency of all links.
+    fn rebuild_overlaps(&mut self) {
+        self.links.clear_overlaps();
+        if let Some(frame) = &self.frame {
+            for interface in &self.mesh.interfaces {
+                let angle = self.mesh.zones[interface.rotor_zone].rotation.as_ref().map_or(0.0, |r| r.angle);
+                push_overlaps(&self.mesh, interface, frame, angle, self.rotor.as_ref(), &mut self.links);
+            }
+        }
+        self.adj.rebuild(self.mesh.n_cells(), &self.links);
+    }
+
+    fn size_work(&mut self) {
+        let n = self.mesh.n_cells();
+        let nb = self.boundary.len();
+        let nl = self.links.len();
+        let w = &mut self.w;
+        for j in 0..3 {
+            w.u[j].resize(n, 0.0);
+            w.u_old[j].resize(n, 0.0);
+            w.u_oo[j].resize(n, 0.0);
+            w.rhs[j].resize(n, 0.0);
+        }
+        for v in [&mut w.p, &mut w.p_start, &mut w.p_work, &mut w.offdiag, &mut w.rau, &mut w.prhs, &mut w.ax, &mut w.errors] {
+            v.resize(n, 0.0);
+        }
+        for v in [&mut w.p_b, &mut w.boundary_flux, &mut w.prescribed] {
+            v.resize(nb, 0.0);
+        }
+        for v in [&mut w.fixed_u, &mut w.boundary_u] {
+            v.resize(nb, Vec3::zeros());
+        }
+        for v in [&mut w.link_flux, &mut w.link_h, &mut w.upper, &mut w.lower, &mut w.pcoef, &mut w.ah] {
+            v.resize(nl, 0.0);
+        }
+        w.link_src.resize(nl, Vec3::zeros());
+        w.grad_u.resize(n, [Vec3::zeros(); 3]);
+        w.grad_p.resize(n, Vec3::zeros());
+        w.source.resize(n, Vec3::zeros());
+        w.hbya.resize(n, Vec3::zeros());
+        w.face_sum.resize(self.mesh.n_faces(), 0.0);
+        w.face_used.resize(self.mesh.n_faces(), false);
+        // matrix structure = adjacency
+        for m in [&mut w.mom, &mut w.pres] {
+            m.n = n;
+            m.row_start.clone_from(&self.adj.row_start);
+            m.col.clone_from(&self.adj.col);
+            m.val.resize(self.adj.col.len(), 0.0);
+            m.diag.resize(n, 0.0);
+        }
+    }
+
+    fn time_coefficients(&self) -> [f64; 3] {
+        if self.state.step == 0 || self.numerics.time_scheme == TimeScheme::Euler || self.state.dt <= 0.0 {
+            [1.0, -1.0, 0.0]
+        } else {
+            let r = self.dt / self.state.dt;
+            [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
+        }
+    }
+
+    fn advance(&mut self) -> Result<StepReport, SolverError> {
+        let dt = self.dt;
+        let tc = self.time_coefficients();
+        // step 2: turn the rotor, update the moving geometry in place, rebuild the overlaps
+        if let Some(r) = &self.rotor {
+            let angle = self.state.rotor_angle + r.omega * dt;
+            self.mesh.set_zone_angle(r.zone, angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
+            self.state.rotor_angle = angle;
+            for &f in &self.moving_faces {
+                self.links.update_face(&self.mesh, f, self.rotor.as_ref(), &self.in_rotor);
+            }
+            self.boundary.update(&self.mesh, self.rotor.as_ref(), &self.in_rotor);
+        }
+        if self.frame.is_some() && (self.rotor.is_some() || self.links.len() == self.links.n_internal) {
+            self.rebuild_overlaps();
+        }
+        self.size_work();
+        let _ = self.rotating_zone;
+
+        let n = self.mesh.n_cells();
+        let nb = self.boundary.len();
+        let nl = self.links.len();
+        let n_internal_faces = self.mesh.n_internal_faces;
+        {
+            // step 3: starting values
+            let fluid = self.state.fluid.as_ref().expect("fluid state");
+            let w = &mut self.w;
+            for c in 0..n {
+                for j in 0..3 {
+                    w.u[j][c] = fluid.velocity[c][j];
+                    w.u_old[j][c] = fluid.velocity[c][j];
+                    w.u_oo[j][c] = fluid.velocity_old[c][j];
+                }
+            }
+            w.p.copy_from_slice(&fluid.pressure);
+            let links = &self.links;
+            let moved = &self.in_rotor;
+            let rotor_moves = self.rotor.is_some();
+            let u = &w.u;
+            let o = Out::of(&mut w.link_flux);
+            par_for(nl, |l| {
+                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+                let v = if l < links.n_internal && !(rotor_moves && moved[p]) {
+                    fluid.flux[l]
+                } else {
+                    let wt = links.weight[l];
+                    (vec_of(u, p) * wt + vec_of(u, q) * (1.0 - wt)).dot(&links.area[l])
+                };
+                unsafe { o.set(l, v) };
+            });
+            let bnd = &self.boundary;
+            for b in 0..nb {
+                let cond = bnd.condition[b] as usize;
+                let face = bnd.face[b] as usize;
+                w.p_b[b] = fluid.boundary_pressure[face - n_internal_faces];
+                w.fixed_u[b] = self.conditions.fixed_velocity(cond, &bnd.centre[b], self.rotor.as_ref()).unwrap_or(Vec3::repeat(f64::NAN));
+                let pres = self.conditions.prescribed_flux(cond, &bnd.centre[b], &bnd.area[b], bnd.mesh_flux[b], self.rotor.as_ref());
+                w.prescribed[b] = pres.unwrap_or(f64::NAN);
+                w.boundary_flux[b] = pres.unwrap_or(fluid.flux[face]);
+            }
+        }
+
+        self.counts = SolveCounts::default();
+        let mut outer_iterations = 0;
+        let mut last_residual = f64::NAN;
+        for _outer in 0..self.numerics.max_outer_iterations {
+            outer_iterations += 1;
+            self.boundary_velocities();
+            {
+                let w = &mut self.w;
+                vector_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.u, &w.boundary_u, &mut w.grad_u);
+            }
+            self.assemble_momentum(tc);
+            self.predictor()?;
+            let mut first_residual = f64::NAN;
+            for corrector in 0..self.numerics.piso_correctors {
+                let residual = self.correct(tc)?;
+                if corrector == 0 {
+                    first_residual = residual;
+                }
+            }
+            last_residual = first_residual;
+            let finite = self.w.u.iter().all(|c| c.iter().all(|x| x.is_finite()));
+            if !first_residual.is_finite() || !finite {
+                return Err(SolverError::Diverged { step: self.state.step + 1, time: self.state.time + dt, what: "non-finite velocity or pressure".into() });
+            }
+            if first_residual < self.numerics.p_initial_residual {
+                break;
+            }
+        }
+        Ok(self.finish_step(tc, outer_iterations, last_residual))
+    }
+
+    /// Boundary velocity of every boundary face from the latest cell velocity.
+    fn boundary_velocities(&mut self) {
+        let w = &mut self.w;
+        let bnd = &self.boundary;
+        for b in 0..bnd.len() {
+            let c = bnd.cell[b] as usize;
+            let uc = vec_of(&w.u, c);
+            w.boundary_u[b] = if !w.fixed_u[b].x.is_nan() {
+                w.fixed_u[b]
+            } else if let Condition::Symmetry = self.conditions.conditions[bnd.condition[b] as usize] {
+                let nrm = bnd.area[b].normalize();
+                uc - nrm * uc.dot(&nrm)
+            } else {
+                uc
+            };
+        }
+    }
+
+    fn assemble_momentum(&mut self, tc: [f64; 3]) {
+        let [c0, c1, c2] = tc;
+        let n = self.mesh.n_cells();
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
+        let links = &self.links;
+        let numerics = &self.numerics;
+        let nu = self.nu;
+        let w = &mut self.w;
+        {
+            let (u, grad) = (&w.u, &w.grad_u);
+            let link_flux = &w.link_flux;
+            let (ou, ol, os) = (Out::of(&mut w.upper), Out::of(&mut w.lower), Out::of(&mut w.link_src));
+            par_for(links.len(), |l| {
+                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+                let alpha_f = links.interpolate(l, alpha[p], alpha[q]);
+                let f = link_flux[l] - links.mesh_flux[l];
+                let lambda = convection_weight(numerics.convection, numerics.linear_fraction, links.weight[l], &links.delta[l], f, vec_of(u, p), vec_of(u, q), |owner_upwind| {
+                    grad[if owner_upwind { p } else { q }]
+                });
+                let gamma = nu * alpha_f;
+                let d = gamma * links.laplacian[l];
+                let grad_f = interpolate_tensor(links.weight[l], &grad[p], &grad[q]);
+                let src = directional(&grad_f, &links.non_orthogonal[l]) * gamma + explicit_stress(&grad_f, &links.area[l]) * gamma;
+                unsafe {
+                    ou.set(l, alpha_f * f * (1.0 - lambda) - d);
+                    ol.set(l, -alpha_f * f * lambda - d);
+                    os.set(l, src);
+                }
+            });
+        }
+        let vol = &self.mesh.cell_volumes;
+        let adj = &self.adj;
+        let bnd = &self.boundary;
+        let conditions = &self.conditions;
+        let (dt, body) = (self.dt, self.body_force);
+        let relax = numerics.relax_velocity;
+        let (upper, lower, link_src) = (&w.upper, &w.lower, &w.link_src);
+        let (u, grad, bflux, bu) = (&w.u, &w.grad_u, &w.boundary_flux, &w.boundary_u);
+        let (od, os, ov) = (Out::of(&mut w.mom.diag), Out::of(&mut w.source), Out::of(&mut w.mom.val));
+        par_for(n, |c| {
+            let v = vol[c];
+            let mut diag = c0 * alpha[c] * v / dt;
+            let mut src = -(vec_of(&w.u_old, c) * (c1 * alpha_o[c]) + vec_of(&w.u_oo, c) * (c2 * alpha_oo[c])) * (v / dt);
+            src += body * v;
+            for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
+                let e = adj.entry[k] as usize;
+                let l = e >> 1;
+                if e & 1 == 1 {
+                    diag -= lower[l];
+                    src += link_src[l];
+                    unsafe { ov.set(k, upper[l]) };
+                } else {
+                    diag -= upper[l];
+                    src -= link_src[l];
+                    unsafe { ov.set(k, lower[l]) };
+                }
+            }
+            for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
+                let b = b as usize;
+                let alpha_p = alpha[c];
+                let f = bflux[b] - bnd.mesh_flux[b];
+                let gamma = nu * alpha_p;
+                let d = gamma * bnd.area[b].norm() / bnd.normal_distance[b];
+                match &conditions.conditions[bnd.condition[b] as usize] {
+                    Condition::FixedVelocity { .. } => {
+                        src -= bu[b] * (alpha_p * f);
+                        diag += d;
+                        src += bu[b] * d;
+                    }
+                    Condition::FixedPressure { .. } => diag += alpha_p * f,
+                    Condition::Symmetry => {
+                        diag += d;
+                        src += bu[b] * d;
+                    }
+                }
+                src += explicit_stress(&grad[c], &bnd.area[b]) * gamma;
+            }
+            let relaxed = diag / relax;
+            src += vec_of(u, c) * (relaxed - diag);
+            unsafe {
+                od.set(c, relaxed);
+                os.set(c, src);
+            }
+        });
+    }
+
+    /// Momentum predictor M u = b − V∇P* for every solved component.
+    fn predictor(&mut self) -> Result<(), SolverError> {
+        let n = self.mesh.n_cells();
+        let w = &mut self.w;
+        scalar_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p, &w.p_b, &mut w.grad_p);
+        for j in 0..3 {
+            if !self.solved[j] {
+                continue;
+            }
+            let (src, gp, vol) = (&w.source, &w.grad_p, &self.mesh.cell_volumes);
+            w.rhs[j].par_iter_mut().with_min_len(crate::linear::reduce::CHUNK).enumerate().for_each(|(c, r)| *r = src[c][j] - vol[c] * gp[c][j]);
+            let stats = self.bicg.solve(&w.mom, &w.rhs[j], &mut w.u[j], &mut Jacobi, self.settings.momentum);
+            self.counts.momentum_iterations += stats.iterations;
+            if !stats.final_residual.is_finite() {
+                return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): residual not finite")));
+            }
+            let _ = n;
+        }
+        Ok(())
+    }
+
+    /// Boundary pressures for cell pressure `p` (reference `pressure::boundary_pressures`).
+    fn boundary_pressures(&self, p: &[f64], out: &mut [f64]) {
+        let bnd = &self.boundary;
+        let w = &self.w;
+        for b in 0..bnd.len() {
+            let c = bnd.cell[b] as usize;
+            out[b] = match &self.conditions.conditions[bnd.condition[b] as usize] {
+                Condition::FixedPressure { pressure } => *pressure,
+                _ if !w.prescribed[b].is_nan() => {
+                    let g = match self.numerics.pressure_wall {
+                        PressureWallCondition::FixedFluxExtrapolated => (w.hbya[c].dot(&bnd.area[b]) - w.prescribed[b]) / (w.rau[c] * bnd.area[b].norm()),
+                        PressureWallCondition::ZeroGradient => 0.0,
+                    };
+                    p[c] + bnd.normal_distance[b] * g
+                }
+                _ => p[c],
+            };
+        }
+    }
+
+    /// One PISO corrector (reference `pressure::correct`); returns the initial residual.
+    fn correct(&mut self, tc: [f64; 3]) -> Result<f64, SolverError> {
+        let n = self.mesh.n_cells();
+        let nb = self.boundary.len();
+        let [c0, c1, c2] = tc;
+        let dt = self.dt;
+        // HbyA and rAU from the latest velocity
+        {
+            let w = &mut self.w;
+            for j in 0..3 {
+                if !self.solved[j] {
+                    continue;
+                }
+                w.mom.multiply_off_diagonal(&w.u[j], &mut w.offdiag);
+                let (src, off, diag) = (&w.source, &w.offdiag, &w.mom.diag);
+                let o = Out::of(&mut w.hbya);
+                par_for(n, |c| unsafe { (&mut *o.ptr(c))[j] = (src[c][j] - off[c]) / diag[c] });
+            }
+            for j in 0..3 {
+                if !self.solved[j] {
+                    w.hbya.par_iter_mut().for_each(|h| h[j] = 0.0);
+                }
+            }
+            let (vol, diag) = (&self.mesh.cell_volumes, &w.mom.diag);
+            w.rau.par_iter_mut().enumerate().for_each(|(c, r)| *r = vol[c] / diag[c]);
+            for b in 0..nb {
+                if !w.prescribed[b].is_nan() {
+                    w.boundary_flux[b] = w.prescribed[b];
+                }
+            }
+            w.p_start.copy_from_slice(&w.p);
+            w.p_work.copy_from_slice(&w.p);
+        }
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
+        let mut initial_residual = 0.0;
+        let mut p_b = std::mem::take(&mut self.w.p_b);
+        for corrector in 0..=self.numerics.non_orthogonal_correctors {
+            self.boundary_pressures(&self.w.p_work, &mut p_b);
+            let links = &self.links;
+            let w = &mut self.w;
+            scalar_gradient(links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p_work, &p_b, &mut w.grad_p);
+            {
+                let (rau, hbya, gp) = (&w.rau, &w.hbya, &w.grad_p);
+                let (oh, oc, oa) = (Out::of(&mut w.link_h), Out::of(&mut w.pcoef), Out::of(&mut w.ah));
+                par_for(links.len(), |l| {
+                    let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+                    let wt = links.weight[l];
+                    let alpha_f = wt * alpha[p] + (1.0 - wt) * alpha[q];
+                    let rau_f = wt * rau[p] + (1.0 - wt) * rau[q];
+                    let hbya_f = hbya[p] * wt + hbya[q] * (1.0 - wt);
+                    let grad_f = gp[p] * wt + gp[q] * (1.0 - wt);
+                    let h_flux = hbya_f.dot(&links.area[l]) - rau_f * grad_f.dot(&links.non_orthogonal[l]);
+                    unsafe {
+                        oh.set(l, h_flux);
+                        oc.set(l, alpha_f * rau_f * links.laplacian[l]);
+                        oa.set(l, alpha_f * h_flux);
+                    }
+                });
+            }
+            {
+                let (adj, bnd, conditions, vol) = (&self.adj, &self.boundary, &self.conditions, &self.mesh.cell_volumes);
+                let (pcoef, ah, rau, hbya, prescribed) = (&w.pcoef, &w.ah, &w.rau, &w.hbya, &w.prescribed);
+                let (od, ov, orhs) = (Out::of(&mut w.pres.diag), Out::of(&mut w.pres.val), Out::of(&mut w.prhs));
+                par_for(n, |c| {
+                    let mut diag = 0.0;
+                    let mut rhs = 0.0;
+                    for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
+                        let e = adj.entry[k] as usize;
+                        let l = e >> 1;
+                        diag += pcoef[l];
+                        unsafe { ov.set(k, -pcoef[l]) };
+                        if e & 1 == 1 {
+                            rhs -= ah[l];
+                        } else {
+                            rhs += ah[l];
+                        }
+                    }
+                    for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
+                        let b = b as usize;
+                        match &conditions.conditions[bnd.condition[b] as usize] {
+                            Condition::FixedPressure { pressure } => {
+                                let k = alpha[c] * rau[c] * bnd.area[b].norm() / bnd.normal_distance[b];
+                                diag += k;
+                                rhs += k * pressure - alpha[c] * hbya[c].dot(&bnd.area[b]);
+                            }
+                            _ if !prescribed[b].is_nan() => rhs -= alpha[c] * prescribed[b],
+                            _ => {}
+                        }
+                    }
+                    rhs -= (c0 * alpha[c] + c1 * alpha_o[c] + c2 * alpha_oo[c]) * vol[c] / dt;
+                    unsafe {
+                        od.set(c, diag);
+                        orhs.set(c, rhs);
+                    }
+                });
+            }
+            if !self.conditions.has_fixed_pressure {
+                w.pres.diag[0] *= 2.0;
+            }
+            if corrector == 0 {
+                w.pres.multiply(&w.p_start, &mut w.ax);
+                let norm = normalisation(&w.pres, &w.prhs, &w.p_start, &w.ax, &mut self.red);
+                let (prhs, ax) = (&w.prhs, &w.ax);
+                initial_residual = self.red.sum(n, |i| (prhs[i] - ax[i]).abs()) / norm;
+            }
+            self.amg.setup(&w.pres);
+            let stats = self.pcg.solve(&w.pres, &w.prhs, &mut w.p_work, &mut self.amg, self.settings.pressure);
+            self.counts.pressure_solves += 1;
+            self.counts.pressure_iterations += stats.iterations;
+            if !stats.final_residual.is_finite() {
+                self.w.p_b = p_b;
+                return Err(SolverError::LinearSolve("pressure equation: residual not finite".into()));
+            }
+        }
+        // conservative fluxes from the final pressure (T4.28)
+        {
+            let links = &self.links;
+            let w = &mut self.w;
+            let (rau, pw, lh) = (&w.rau, &w.p_work, &w.link_h);
+            w.link_flux.par_iter_mut().with_min_len(crate::linear::reduce::CHUNK).enumerate().for_each(|(l, f)| {
+                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+                let rau_f = links.interpolate(l, rau[p], rau[q]);
+                *f = lh[l] - rau_f * links.laplacian[l] * (pw[q] - pw[p]);
+            });
+            let bnd = &self.boundary;
+            for b in 0..nb {
+                if let Condition::FixedPressure { pressure } = &self.conditions.conditions[bnd.condition[b] as usize] {
+                    let c = bnd.cell[b] as usize;
+                    w.boundary_flux[b] = w.hbya[c].dot(&bnd.area[b]) - w.rau[c] * bnd.area[b].norm() / bnd.normal_distance[b] * (pressure - w.p_work[c]);
+                }
+            }
+            let relax = self.numerics.relax_pressure;
+            let (ps, pw) = (&w.p_start, &w.p_work);
+            w.p.par_iter_mut().enumerate().for_each(|(c, p)| *p = ps[c] + relax * (pw[c] - ps[c]));
+        }
+        self.boundary_pressures(&self.w.p, &mut p_b);
+        let w = &mut self.w;
+        w.p_b = p_b;
+        scalar_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p, &w.p_b, &mut w.grad_p);
+        for j in 0..3 {
+            let (h, r, g) = (&w.hbya, &w.rau, &w.grad_p);
+            let solved = self.solved[j];
+            w.u[j].par_iter_mut().enumerate().for_each(|(c, u)| *u = if solved { h[c][j] - r[c] * g[c][j] } else { 0.0 });
+        }
+        Ok(initial_residual)
+    }
+
+    /// Diagnostics and step 5 (shift the time levels).
+    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64) -> StepReport {
+        let [c0, c1, c2] = tc;
+        let dt = self.dt;
+        let n = self.mesh.n_cells();
+        let links = &self.links;
+        let bnd = &self.boundary;
+        let adj = &self.adj;
+        let vol = &self.mesh.cell_volumes;
+        let w = &mut self.w;
+        let fluid = self.state.fluid.as_mut().expect("fluid state");
+        let (local, global, courant, kinetic);
+        {
+            let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
+            let (lf, bf) = (&w.link_flux, &w.boundary_flux);
+            let o = Out::of(&mut w.errors);
+            let oc = Out::of(&mut w.ax);
+            par_for(n, |c| {
+                let mut e = (c0 * alpha[c] + c1 * alpha_o[c] + c2 * alpha_oo[c]) * vol[c] / dt;
+                let mut s = 0.0;
+                for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
+                    let ent = adj.entry[k] as usize;
+                    let l = ent >> 1;
+                    let alpha_f = links.interpolate(l, alpha[links.owner[l] as usize], alpha[links.neighbour[l] as usize]);
+                    if ent & 1 == 1 {
+                        e += alpha_f * lf[l];
+                    } else {
+                        e -= alpha_f * lf[l];
+                    }
+                    s += (lf[l] - links.mesh_flux[l]).abs();
+                }
+                for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
+                    let b = b as usize;
+                    e += alpha[c] * bf[b];
+                    s += (bf[b] - bnd.mesh_flux[b]).abs();
+                }
+                unsafe {
+                    o.set(c, e);
+                    oc.set(c, 0.5 * dt * s / vol[c]);
+                }
+            });
+            let (errors, cour, u) = (&w.errors, &w.ax, &w.u);
+            let [sa, sg] = self.red.sum2(n, |c| [errors[c].abs(), errors[c]]);
+            local = dt * sa;
+            global = dt * sg;
+            courant = self.red.max(n, |c| cour[c]).max(0.0);
+            kinetic = self.red.sum(n, |c| 0.5 * alpha[c] * (u[0][c] * u[0][c] + u[1][c] * u[1][c] + u[2][c] * u[2][c]) * vol[c]);
+        }
+        // interface imbalance and the face fluxes of the state
+        let nf = self.mesh.n_faces();
+        let mut throughput = 0.0;
+        for k in 0..links.len() - links.n_internal {
+            let l = links.n_internal + k;
+            let (r, s) = (links.rotor_face[k] as usize, links.stator_face[k] as usize);
+            w.face_sum[r] = 0.0;
+            w.face_sum[s] = 0.0;
+            let _ = l;
+        }
+        for k in 0..links.len() - links.n_internal {
+            let l = links.n_internal + k;
+            let (r, s) = (links.rotor_face[k] as usize, links.stator_face[k] as usize);
+            w.face_sum[r] += w.link_flux[l];
+            w.face_sum[s] -= w.link_flux[l];
+            w.face_used[r] = true;
+            w.face_used[s] = true;
+            throughput += w.link_flux[l].abs();
+        }
+        let imbalance = if throughput == 0.0 {
+            0.0
+        } else {
+            let mut net = 0.0;
+            for f in 0..nf {
+                if w.face_used[f] {
+                    net += w.face_sum[f];
+                }
+            }
+            net.abs() / throughput
+        };
+
+        for c in 0..n {
+            fluid.velocity_old[c] = fluid.velocity[c];
+            fluid.velocity[c] = [w.u[0][c], w.u[1][c], w.u[2][c]];
+        }
+        fluid.pressure.copy_from_slice(&w.p);
+        fluid.flux.fill(0.0);
+        fluid.flux[..links.n_internal].copy_from_slice(&w.link_flux[..links.n_internal]);
+        for f in 0..nf {
+            if w.face_used[f] {
+                fluid.flux[f] = w.face_sum[f];
+                w.face_used[f] = false;
+            }
+        }
+        let nif = self.mesh.n_internal_faces;
+        for b in 0..bnd.len() {
+            let face = bnd.face[b] as usize;
+            fluid.flux[face] = w.boundary_flux[b];
+            fluid.boundary_pressure[face - nif] = w.p_b[b];
+        }
+        fluid.alpha_old_old.copy_from_slice(&fluid.alpha_old);
+        fluid.alpha_old.copy_from_slice(&fluid.alpha);
+        fluid.cumulative_continuity_error += global;
+        let cumulative = fluid.cumulative_continuity_error;
+        self.state.time += dt;
+        self.state.step += 1;
+        self.state.dt = dt;
+        StepReport {
+            values: vec![
+                ("dt", dt),
+                ("courant_max", courant),
+                ("continuity_local", local),
+                ("continuity_global", global),
+                ("continuity_cumulative", cumulative),
+                ("kinetic_energy", kinetic),
+                ("outer_iterations", outer_iterations as f64),
+                ("p_initial_residual", last_residual),
+                ("interface_imbalance", imbalance),
+                ("rotor_angle", self.state.rotor_angle),
+            ],
+        }
+    }
+}
+
+impl Solver for FastFluid {
+    fn name(&self) -> &'static str {
+        "fast"
+    }
+
+    fn step(&mut self) -> Result<StepReport, SolverError> {
+        self.advance()
+    }
+
+    fn state(&self) -> &State {
+        &self.state
+    }
+
+    fn mesh(&self) -> Option<&Mesh> {
+        Some(&self.mesh)
+    }
+}

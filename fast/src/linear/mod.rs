@@ -1,0 +1,54 @@
+//! Sparse linear algebra of the fast solver: CSR matrices with a separate diagonal,
+//! preconditioned conjugate gradients (pressure), BiCGStab (momentum), an aggregation algebraic
+//! multigrid preconditioner, and thread-count-independent reductions.
+//!
+//! Determinism: every parallel loop writes disjoint outputs computed in a fixed order, and every
+//! reduction sums fixed-size chunks ([`reduce::CHUNK`]) whose partial sums are added in chunk
+//! order, so a solve gives the same bits on 1 or N threads.
+
+pub mod amg;
+pub mod bicgstab;
+pub mod csr;
+pub mod pcg;
+pub mod reduce;
+pub mod smoother;
+
+pub use csr::Csr;
+
+/// Outcome of one iterative solve.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolveStats {
+    pub iterations: usize,
+    /// Normalised residual (OpenFOAM's definition) before the first iteration.
+    pub initial_residual: f64,
+    /// Normalised residual at exit.
+    pub final_residual: f64,
+}
+
+/// Iteration controls of one linear solve: stop when the normalised residual
+/// Σ|b − Ax| / (Σ|Ax − Ax̄| + Σ|b − Ax̄| + 10⁻²⁰) falls below `tolerance` (x̄ the mean of the
+/// initial guess, OpenFOAM's normalisation), or after `max_iterations`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+}
+
+/// z = M⁻¹ r for a preconditioner M of matrix `a`.
+pub trait Preconditioner {
+    fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]);
+}
+
+/// Diagonal (Jacobi) preconditioner.
+pub struct Jacobi;
+
+impl Preconditioner for Jacobi {
+    fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]) {
+        use rayon::prelude::*;
+        z.par_iter_mut()
+            .with_min_len(reduce::CHUNK)
+            .zip(r.par_iter().with_min_len(reduce::CHUNK))
+            .zip(a.diag.par_iter().with_min_len(reduce::CHUNK))
+            .for_each(|((z, r), d)| *z = r / d);
+    }
+}
