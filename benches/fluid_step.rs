@@ -1,0 +1,388 @@
+//! Fast vs reference fluid solver (issue #6): per-step time and µs per cell-step on the Couette
+//! sliding-interface case (2-D), a 3-D rotor/stator cylinder and a lid-driven box; pressure-solve
+//! throughput against a STREAM-like triad measured in the same run; 1 → 2 thread scaling.
+//!
+//! `cargo bench --bench fluid_step` runs the default sizes (a few minutes on 2 cores);
+//! `SPILLAGE_BENCH_LARGE=1` adds the large sizes (Couette 512×128, 3-D 10⁵–10⁶ cells).
+//! Numbers are also written to `target/spillage-bench/summary.json`.
+//!
+//! Settings of every run: PIMPLE with 2 outer correctors (no early exit), 2 PISO correctors,
+//! 1 non-orthogonal corrector, linear convection, BDF2; fast linear solves to a normalised
+//! residual of 1e-7 (OpenFOAM's definition and a typical OpenFOAM tolerance); the reference
+//! solves exactly (sparse LU).
+
+use std::path::Path;
+use std::time::Instant;
+
+use criterion::{criterion_group, Criterion};
+use spillage_fast::fluid::{FastFluid, FastSettings};
+use spillage_fast::linear::{amg::Amg, pcg::Pcg, Csr, Tolerance};
+use spillage_model::case::Case;
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_reference::fluid::ReferenceFluid;
+
+const NUMERICS: &str = r#"
+[numerics]
+convection = "linear"
+time_scheme = "backward"
+pressure_wall = "fixed_flux_extrapolated"
+max_outer_iterations = 2
+p_initial_residual = 0.0
+piso_correctors = 2
+non_orthogonal_correctors = 1
+relax_velocity = 1.0
+relax_pressure = 1.0
+"#;
+
+fn settings() -> FastSettings {
+    let t = Tolerance { tolerance: 1e-7, max_iterations: 1000 };
+    FastSettings { pressure: t, momentum: t }
+}
+
+fn large() -> bool {
+    std::env::var("SPILLAGE_BENCH_LARGE").is_ok_and(|v| v != "0")
+}
+
+/// Couette flow with a sliding interface, n_θ × n_r cells (half the rings rotor, stator 5/4 n_θ
+/// in θ so the interface is non-conformal), Δt = half a rotor cell per step.
+pub fn couette(n_theta: usize, n_r: usize) -> Case {
+    let dt = 0.5 * std::f64::consts::TAU / n_theta as f64;
+    let text = format!(
+        r#"[case]
+name = "bench_couette_{n_theta}x{n_r}"
+[time]
+dt = {dt}
+end_time = 1.0
+[fluid]
+density = 1000.0
+kinematic_viscosity = 0.02
+[mesh]
+generator = "rotor_stator"
+r_inner = 1.0
+r_interface = 1.5
+r_outer = 2.0
+z_min = 0.0
+z_max = 0.1
+n_r_rotor = {}
+n_r_stator = {}
+n_theta_rotor = {n_theta}
+n_theta_stator = {}
+two_d = true
+[rotor]
+omega = 1.0
+[boundary.inner]
+type = "wall"
+rotating = true
+[boundary.outer]
+type = "wall"
+{NUMERICS}"#,
+        n_r / 2,
+        n_r - n_r / 2,
+        n_theta * 5 / 4
+    );
+    Case::from_toml(&text, Path::new("bench_couette.toml")).expect("bench case")
+}
+
+/// 3-D rotor/stator cylinder: rotor wall inside, static outer wall, walls top and bottom.
+pub fn rotor3d(n_theta: usize, n_r: usize, n_z: usize) -> Case {
+    let dt = 0.5 * std::f64::consts::TAU / n_theta as f64;
+    let text = format!(
+        r#"[case]
+name = "bench_rotor3d"
+[time]
+dt = {dt}
+end_time = 1.0
+[fluid]
+density = 1000.0
+kinematic_viscosity = 0.01
+[mesh]
+generator = "rotor_stator"
+r_inner = 0.5
+r_interface = 1.0
+r_outer = 1.5
+z_min = 0.0
+z_max = 1.0
+n_r_rotor = {}
+n_r_stator = {}
+n_theta_rotor = {n_theta}
+n_theta_stator = {}
+n_z = {n_z}
+two_d = false
+[rotor]
+omega = 1.0
+[boundary.inner]
+type = "wall"
+rotating = true
+[boundary.outer]
+type = "wall"
+[boundary.z_min]
+type = "wall"
+[boundary.z_max]
+type = "wall"
+{NUMERICS}"#,
+        n_r / 2,
+        n_r - n_r / 2,
+        n_theta * 5 / 4
+    );
+    Case::from_toml(&text, Path::new("bench_rotor3d.toml")).expect("bench case")
+}
+
+/// 2-D lid-driven square cavity, n × n cells, Re = 100.
+pub fn lid(n: usize) -> Case {
+    let dt = 0.5 / n as f64;
+    let text = format!(
+        r#"[case]
+name = "bench_lid_{n}"
+[time]
+dt = {dt}
+end_time = 1.0
+[fluid]
+density = 1000.0
+kinematic_viscosity = 0.01
+[mesh]
+generator = "box"
+min = [0.0, 0.0, 0.0]
+max = [1.0, 1.0, 0.1]
+cells = [{n}, {n}, 1]
+two_d = true
+[boundary.x_min]
+type = "wall"
+[boundary.x_max]
+type = "wall"
+[boundary.y_min]
+type = "wall"
+[boundary.y_max]
+type = "wall"
+velocity = [1.0, 0.0, 0.0]
+{NUMERICS}"#
+    );
+    Case::from_toml(&text, Path::new("bench_lid.toml")).expect("bench case")
+}
+
+fn fast_solver(case: &Case) -> FastFluid {
+    let mesh = spillage::verify::fluid::build_mesh(case).expect("mesh");
+    FastFluid::new(case, mesh, State::default()).expect("fast solver").with_settings(settings())
+}
+
+fn reference_solver(case: &Case) -> ReferenceFluid {
+    let mesh = spillage::verify::fluid::build_mesh(case).expect("mesh");
+    ReferenceFluid::new(case, mesh, State::default()).expect("reference solver")
+}
+
+/// Seconds per step over `steps` steps after 2 warm-up steps.
+fn time_steps(s: &mut dyn Solver, steps: usize) -> f64 {
+    for _ in 0..2 {
+        s.step().expect("step");
+    }
+    let t = Instant::now();
+    for _ in 0..steps {
+        s.step().expect("step");
+    }
+    t.elapsed().as_secs_f64() / steps as f64
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool")
+}
+
+fn n_cells(case: &Case) -> usize {
+    spillage::verify::fluid::build_mesh(case).expect("mesh").n_cells()
+}
+
+/// STREAM triad a = b + s·c on `threads` threads: bytes moved (3 arrays, STREAM's count) per second.
+fn triad(threads: usize, n: usize) -> f64 {
+    use rayon::prelude::*;
+    let b = vec![1.0f64; n];
+    let c = vec![2.0f64; n];
+    let mut a = vec![0.0f64; n];
+    pool(threads).install(|| {
+        let mut best = f64::INFINITY;
+        for _ in 0..6 {
+            let t = Instant::now();
+            a.par_chunks_mut(1 << 16).enumerate().for_each(|(k, ch)| {
+                let o = k << 16;
+                for (i, x) in ch.iter_mut().enumerate() {
+                    *x = b[o + i] + 3.0 * c[o + i];
+                }
+            });
+            best = best.min(t.elapsed().as_secs_f64());
+        }
+        std::hint::black_box(&a);
+        3.0 * 8.0 * n as f64 / best
+    })
+}
+
+/// 7-point Laplacian on an n³ grid (diagonal 6 everywhere: Dirichlet walls), the pressure
+/// matrix shape of a 3-D hexahedral mesh.
+fn laplacian3d(n: usize) -> Csr {
+    let idx = |i: usize, j: usize, k: usize| (k * n + j) * n + i;
+    let mut a = Csr { n: n * n * n, row_start: vec![0], ..Default::default() };
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                for (di, dj, dk) in [(0i64, 0i64, -1i64), (0, -1, 0), (-1, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                    let (ii, jj, kk) = (i as i64 + di, j as i64 + dj, k as i64 + dk);
+                    if ii >= 0 && jj >= 0 && kk >= 0 && (ii as usize) < n && (jj as usize) < n && (kk as usize) < n {
+                        a.col.push(idx(ii as usize, jj as usize, kk as usize) as u32);
+                        a.val.push(-1.0);
+                    }
+                }
+                a.diag.push(6.0);
+                a.row_start.push(a.col.len() as u32);
+            }
+        }
+    }
+    a
+}
+
+/// Pressure-solve throughput: (cell-iterations per second, modelled bytes per cell-iteration,
+/// iterations, setup seconds, solve seconds).
+fn pressure_throughput(threads: usize, n: usize) -> (f64, f64, usize, f64, f64) {
+    let a = laplacian3d(n);
+    let b: Vec<f64> = (0..a.n).map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0).collect();
+    pool(threads).install(|| {
+        let mut amg = Amg::default();
+        let t0 = Instant::now();
+        amg.setup(&a);
+        let setup = t0.elapsed().as_secs_f64();
+        let mut x = vec![0.0; a.n];
+        let mut pcg = Pcg::default();
+        let t1 = Instant::now();
+        let stats = pcg.solve(&a, &b, &mut x, &mut amg, Tolerance { tolerance: 1e-7, max_iterations: 500 });
+        let solve = t1.elapsed().as_secs_f64();
+        // traffic model per fine cell and CG iteration: 4 passes over the matrix (CG product,
+        // forward smoothing, residual, backward smoothing) of 12 B per off-diagonal + 8 B diagonal,
+        // ~25 vector reads/writes of 8 B; coarse levels add 1/3 (coarsening by 4).
+        let off = a.col.len() as f64 / a.n as f64;
+        let bytes = (4.0 * (12.0 * off + 8.0) + 25.0 * 8.0) * 4.0 / 3.0;
+        (a.n as f64 * stats.iterations as f64 / solve, bytes, stats.iterations, setup, solve)
+    })
+}
+
+struct Row {
+    workload: String,
+    cells: usize,
+    fast_1: f64,
+    fast_2: f64,
+    reference: Option<f64>,
+}
+
+fn measure(name: String, case: &Case, steps: usize, with_reference: bool) -> Row {
+    let cells = n_cells(case);
+    let fast_1 = pool(1).install(|| time_steps(&mut fast_solver(case), steps));
+    let fast_2 = pool(2).install(|| time_steps(&mut fast_solver(case), steps));
+    let reference = with_reference.then(|| pool(2).install(|| time_steps(&mut reference_solver(case), steps.min(5))));
+    let r = Row { workload: name, cells, fast_1, fast_2, reference };
+    eprintln!(
+        "{:<28} {:>8} cells  fast 1t {:>9.3} ms ({:>6.2} µs/cell-step)  2t {:>9.3} ms (×{:.2})  reference {}",
+        r.workload,
+        cells,
+        fast_1 * 1e3,
+        fast_1 * 1e6 / cells as f64,
+        fast_2 * 1e3,
+        fast_1 / fast_2,
+        r.reference.map_or("-".into(), |t| format!("{:.3} ms (fast 2t is {:.1}× faster)", t * 1e3, t / fast_2))
+    );
+    r
+}
+
+fn summary() {
+    let mut rows = Vec::new();
+    let mut couette_sizes = vec![(64, 16), (128, 32), (256, 64)];
+    let mut rotor_sizes = vec![(40, 16, 16)];
+    let mut lid_sizes = vec![(64, true), (256, true)];
+    if large() {
+        couette_sizes.push((512, 128));
+        rotor_sizes.push((100, 32, 32));
+        rotor_sizes.push((200, 64, 80));
+        lid_sizes.push((512, false));
+    }
+    for (nt, nr) in couette_sizes {
+        rows.push(measure(format!("couette_sliding {nt}x{nr}"), &couette(nt, nr), 10, true));
+    }
+    for (nt, nr, nz) in rotor_sizes {
+        let case = rotor3d(nt, nr, nz);
+        let cells = nt * nr * nz;
+        rows.push(measure(format!("rotor_stator_3d {nt}x{nr}x{nz}"), &case, if cells > 200_000 { 3 } else { 5 }, cells <= 20_000));
+    }
+    for (n, with_ref) in lid_sizes {
+        rows.push(measure(format!("lid_driven {n}x{n}"), &lid(n), 10, with_ref));
+    }
+    let triad_n = 20_000_000;
+    let bw1 = triad(1, triad_n);
+    let bw2 = triad(2, triad_n);
+    let pn = if large() { 100 } else { 64 };
+    let (cips1, bytes, iters, setup1, solve1) = pressure_throughput(1, pn);
+    let (cips2, _, _, setup2, solve2) = pressure_throughput(2, pn);
+    eprintln!("STREAM triad: {:.2} GB/s (1 thread), {:.2} GB/s (2 threads)", bw1 / 1e9, bw2 / 1e9);
+    eprintln!(
+        "pressure AMG-PCG {pn}³: {iters} iterations; 1t: setup {:.3} s solve {:.3} s, {:.3e} cell-it/s = {:.0}% of triad; 2t: setup {:.3} s solve {:.3} s, {:.3e} cell-it/s = {:.0}% of triad ({bytes:.0} B/cell-it model)",
+        setup1,
+        solve1,
+        cips1,
+        100.0 * cips1 * bytes / bw1,
+        setup2,
+        solve2,
+        cips2,
+        100.0 * cips2 * bytes / bw2
+    );
+    let json_rows: Vec<serde_json::Value> = rows
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "workload": r.workload, "cells": r.cells,
+                "fast_1_thread_s_per_step": r.fast_1, "fast_2_threads_s_per_step": r.fast_2,
+                "fast_1_thread_us_per_cell_step": r.fast_1 * 1e6 / r.cells as f64,
+                "fast_2_threads_us_per_cell_step": r.fast_2 * 1e6 / r.cells as f64,
+                "speedup_1_to_2_threads": r.fast_1 / r.fast_2,
+                "reference_2_threads_s_per_step": r.reference,
+                "reference_over_fast": r.reference.map(|t| t / r.fast_2),
+            })
+        })
+        .collect();
+    let json = serde_json::json!({
+        "settings": "2 outer, 2 PISO, 1 non-orthogonal corrector; fast tolerances 1e-7 normalised; reference exact LU",
+        "steps": json_rows,
+        "stream_triad_bytes_per_s": {"1": bw1, "2": bw2},
+        "pressure_solve": {
+            "grid": format!("{pn}^3 7-point Laplacian"), "iterations": iters, "bytes_per_cell_iteration_model": bytes,
+            "cell_iterations_per_s": {"1": cips1, "2": cips2},
+            "fraction_of_triad": {"1": cips1 * bytes / bw1, "2": cips2 * bytes / bw2},
+            "setup_s": {"1": setup1, "2": setup2}, "solve_s": {"1": solve1, "2": solve2},
+        },
+    });
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
+    let _ = std::fs::create_dir_all(&dir);
+    let _ = std::fs::write(dir.join("summary.json"), serde_json::to_string_pretty(&json).expect("json"));
+    eprintln!("wrote {}", dir.join("summary.json").display());
+}
+
+fn criterion_steps(c: &mut Criterion) {
+    let mut g = c.benchmark_group("fluid_step");
+    g.sample_size(10);
+    for (name, case) in [("couette_sliding_128x32", couette(128, 32)), ("lid_driven_128x128", lid(128))] {
+        let mut fast = fast_solver(&case);
+        g.bench_function(format!("fast/{name}"), |b| b.iter(|| fast.step().expect("step")));
+        let mut reference = reference_solver(&case);
+        g.bench_function(format!("reference/{name}"), |b| b.iter(|| reference.step().expect("step")));
+    }
+    g.finish();
+}
+
+criterion_group!(benches, criterion_steps);
+
+fn main() {
+    // benches/peers/openfoam_lid.sh: time only the lid-driven cavity on 1 thread
+    if let Ok(n) = std::env::var("SPILLAGE_PEER_LID") {
+        let n: usize = n.parse().expect("SPILLAGE_PEER_LID = cells per side");
+        let steps: usize = std::env::var("SPILLAGE_PEER_STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or(20);
+        let case = lid(n);
+        let t = pool(1).install(|| time_steps(&mut fast_solver(&case), steps));
+        println!("fast_s_per_step {t:.6e} cells {}", n * n);
+        return;
+    }
+    summary();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}
