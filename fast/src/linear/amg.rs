@@ -14,7 +14,7 @@ use super::smoother::{block_gauss_seidel, block_gauss_seidel_from_zero};
 use super::Preconditioner;
 
 /// Coarsest level size solved by dense Cholesky.
-const DENSE_MAX: usize = 400;
+const DENSE_MAX: usize = 64;
 /// Strength threshold: j is a strong neighbour of i if −a_ij ≥ β max_k(−a_ik).
 const STRENGTH: f64 = 0.25;
 const NONE: u32 = u32::MAX;
