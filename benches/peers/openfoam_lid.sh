@@ -14,6 +14,10 @@ if ! command -v pimpleFoam >/dev/null 2>&1 || ! command -v blockMesh >/dev/null 
   echo "OpenFOAM (pimpleFoam, blockMesh) not found: skipping (apt-get install openfoam)"
   exit 0
 fi
+# Debian/Ubuntu's openfoam package needs its environment (WM_PROJECT_DIR for etc/controlDict)
+for rc in /usr/share/openfoam/etc/bashrc /usr/lib/openfoam/openfoam1912/etc/bashrc /opt/openfoam1912/etc/bashrc; do
+  if [ -z "${WM_PROJECT_DIR:-}" ] && [ -f "$rc" ]; then set +u; source "$rc" >/dev/null 2>&1 || true; set -u; fi
+done
 root=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
