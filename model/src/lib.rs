@@ -5,6 +5,7 @@
 //! [`solver::Solver`] trait; output writers.
 
 pub mod case;
+pub mod closure;
 pub mod fluid;
 pub mod mesh;
 pub mod output;
