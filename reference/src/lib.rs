@@ -1,1 +1,3 @@
 //! Reference solver.
+
+pub mod dem;
