@@ -1,1 +1,78 @@
-fn main() {}
+//! `spillage`: the command-line program. Thin: parses, calls the library crates, reports.
+
+mod check;
+mod run;
+mod verify_cmd;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+#[derive(Parser)]
+#[command(name = "spillage", version, about = "Rock spillage in rotating cutter heads: verified fluid–DEM–wear simulation")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SolverChoice {
+    /// The optimised solver.
+    Fast,
+    /// The clear, slow solver the fast one is checked against.
+    Reference,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a case and write the results folder (summary.json, series.csv, ParaView files, plots,
+    /// checkpoints).
+    Run {
+        /// The case file (TOML).
+        case: PathBuf,
+        #[arg(long, value_enum, default_value_t = SolverChoice::Reference)]
+        solver: SolverChoice,
+        /// Results folder (default: results/<case name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (default: all cores). Results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Continue from a checkpoint file written by an earlier run of the same case.
+        #[arg(long)]
+        restart: Option<PathBuf>,
+    },
+    /// Validate a case file and print the derived numbers (cells, Courant number, DEM step,
+    /// Stokes numbers, memory estimate).
+    Check {
+        case: PathBuf,
+    },
+    /// Run the verification ladder: one row per checked quantity; exit status 1 if any fails.
+    Verify {
+        /// Case files or folders (default: cases/verification).
+        cases: Vec<PathBuf>,
+        /// Print the rows as JSON (stable format, see README).
+        #[arg(long)]
+        json: bool,
+        /// Include the fine levels (slow).
+        #[arg(long)]
+        full: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run { case, solver, out, threads, restart } => run::run(&run::RunOptions { case, solver, out, threads, restart }),
+        Command::Check { case } => check::check(&case),
+        Command::Verify { cases, json, full } => verify_cmd::verify(&cases, json, full),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -5,6 +5,7 @@
 //! [`solver::Solver`] trait; output writers.
 
 pub mod case;
+pub mod checkpoint;
 pub mod closure;
 pub mod fluid;
 pub mod mesh;
@@ -12,4 +13,5 @@ pub mod output;
 pub mod particles;
 pub mod solver;
 pub mod state;
+pub mod state_diff;
 pub mod walls;

@@ -29,4 +29,8 @@ pub trait Solver {
     fn step(&mut self) -> Result<StepReport, SolverError>;
     /// The current state.
     fn state(&self) -> &State;
+    /// The mesh at the current time (rotor turned), for output; `None` for particle-only runs.
+    fn mesh(&self) -> Option<&crate::mesh::Mesh> {
+        None
+    }
 }

@@ -33,3 +33,32 @@ pub fn key_position(text: &str, key_path: &str) -> Option<(usize, usize)> {
     }
     best.map(|offset| line_column(text, offset))
 }
+
+/// Dotted path of the deepest key whose value contains byte `offset` (for parser messages that
+/// give a position but not the key). Tables opened by a `[header]` have spans that cover only
+/// the header, so the search descends into every table rather than following spans.
+pub fn key_at(text: &str, offset: usize) -> Option<String> {
+    use toml::de::{DeTable, DeValue};
+    fn walk(value: &DeValue<'_>, offset: usize, path: &mut Vec<String>) -> bool {
+        let children: Vec<(String, &toml::Spanned<DeValue<'_>>, std::ops::Range<usize>)> = match value {
+            DeValue::Table(t) => t.iter().map(|(k, v)| (k.get_ref().to_string(), v, k.span())).collect(),
+            DeValue::Array(items) => items.iter().enumerate().map(|(i, v)| (i.to_string(), v, v.span())).collect(),
+            _ => return false,
+        };
+        for (name, child, key_span) in children {
+            path.push(name);
+            if walk(child.get_ref(), offset, path) {
+                return true;
+            }
+            let scalar = !matches!(child.get_ref(), DeValue::Table(_) | DeValue::Array(_));
+            if key_span.contains(&offset) || (scalar && child.span().contains(&offset)) {
+                return true;
+            }
+            path.pop();
+        }
+        false
+    }
+    let root = DeTable::parse(text).ok()?;
+    let mut path = Vec::new();
+    walk(&DeValue::Table(root.into_inner()), offset, &mut path).then(|| path.join("."))
+}

@@ -63,14 +63,15 @@ impl Case {
     /// Parses and validates case text; `path` is used in messages only.
     pub fn from_toml(text: &str, path: &Path) -> Result<Case, CaseError> {
         let mut case: Case = toml::from_str(text).map_err(|e| {
-            let (line, column) = match e.span() {
-                Some(span) => {
-                    let (l, c) = locate::line_column(text, span.start);
-                    (Some(l), Some(c))
+            let (mut line, mut column, mut message) = (None, None, e.message().trim().to_string());
+            if let Some(span) = e.span() {
+                let (l, c) = locate::line_column(text, span.start);
+                (line, column) = (Some(l), Some(c));
+                if let Some(key) = locate::key_at(text, span.start).filter(|k| !message.contains(k.as_str())) {
+                    message = format!("key `{key}`: {message}");
                 }
-                None => (None, None),
-            };
-            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(e.message().trim().to_string()) }
+            }
+            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(message) }
         })?;
         case.path = path.to_path_buf();
         case.validate().map_err(|field| {

@@ -49,3 +49,14 @@ impl BoundaryCondition {
         }
     }
 }
+
+impl BoundaryCondition {
+    /// Largest speed this condition imposes, given the largest radius of the mesh (for rotating
+    /// walls). `None` when it imposes no velocity.
+    pub fn imposed_speed(&self, r_max: f64) -> Option<f64> {
+        let _ = r_max;
+        match self {
+            BoundaryCondition::Wall { velocity, .. } => Some(velocity.iter().map(|v| v * v).sum::<f64>().sqrt()),
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! `spillage check`: validates a case file and prints the numbers derived from it, so a user
+//! sees the cost and the stability margins before starting a run.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use spillage_model::case::{Case, MeshSection};
+
+/// Derived numbers of a case, also used by the run summary.
+#[derive(Debug, Default, serde::Serialize)]
+pub struct Derived {
+    pub cells: usize,
+    /// Smallest cell edge [m].
+    pub min_cell_size: Option<f64>,
+    /// Largest velocity the boundary conditions impose [m/s].
+    pub velocity_scale: Option<f64>,
+    /// Courant number U·Δt/Δx_min from the imposed velocities (spec fluid-dem-model.md §8.9).
+    pub courant_estimate: Option<f64>,
+    /// Reynolds number U·L/ν with L the mesh's smallest extent.
+    pub reynolds: Option<f64>,
+    /// Fields and geometry in memory [bytes] (solver workspace not included).
+    pub memory_estimate_bytes: usize,
+}
+
+pub fn derive(case: &Case) -> Derived {
+    let mut d = Derived::default();
+    let Some(mesh) = &case.mesh else { return d };
+    d.cells = mesh.cell_count();
+    let (min_size, extent, r_max) = match mesh {
+        MeshSection::Box { min, max, cells, grading, .. } => {
+            let mut smallest = f64::INFINITY;
+            let mut extent = f64::INFINITY;
+            for k in 0..3 {
+                let len = max[k] - min[k];
+                extent = extent.min(len);
+                smallest = smallest.min(smallest_graded_cell(len, cells[k], grading[k]));
+            }
+            (smallest, extent, None)
+        }
+        MeshSection::Annulus { r_inner, r_outer, z_min, z_max, n_r, n_theta, n_z, radial_grading, .. } => {
+            let dr = smallest_graded_cell(r_outer - r_inner, *n_r, *radial_grading);
+            let arc = r_inner * std::f64::consts::TAU / *n_theta as f64;
+            ((dr.min(arc)).min((z_max - z_min) / *n_z as f64), r_outer - r_inner, Some(*r_outer))
+        }
+        MeshSection::RotorStator { r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, .. } => {
+            let dr = smallest_graded_cell(r_interface - r_inner, *n_r_rotor, *radial_grading)
+                .min(smallest_graded_cell(r_outer - r_interface, *n_r_stator, *radial_grading));
+            let arc = (r_inner * std::f64::consts::TAU / *n_theta_rotor as f64).min(r_interface * std::f64::consts::TAU / *n_theta_stator as f64);
+            (dr.min(arc).min((z_max - z_min) / *n_z as f64), r_outer - r_inner, Some(*r_interface))
+        }
+    };
+    d.min_cell_size = Some(min_size);
+    let mut speed: f64 = 0.0;
+    for bc in case.boundary.values() {
+        if let Some(u) = bc.imposed_speed(r_max.unwrap_or(0.0)) {
+            speed = speed.max(u);
+        }
+    }
+    if let (Some(rotor), Some(r)) = (&case.rotor, r_max) {
+        speed = speed.max(rotor.angular_velocity().abs() * r);
+    }
+    if speed > 0.0 {
+        d.velocity_scale = Some(speed);
+        if let Some(dt) = case.time.dt {
+            d.courant_estimate = Some(speed * dt / min_size);
+        }
+        if let Some(fluid) = &case.fluid {
+            d.reynolds = Some(speed * extent / fluid.kinematic_viscosity);
+        }
+    }
+    // Per cell ≈ 20 f64 of cell fields with two old time levels; 3 faces per cell of ≈ 17 words
+    // (points, centre, area vector, delta, weight, fluxes at three levels).
+    d.memory_estimate_bytes = d.cells * (20 + 3 * 17) * 8;
+    d
+}
+
+/// Smallest cell of `n` cells over `len` with geometric ratio `grading` of last to first.
+fn smallest_graded_cell(len: f64, n: usize, grading: f64) -> f64 {
+    if n <= 1 || (grading - 1.0).abs() < 1e-12 {
+        return len / n as f64;
+    }
+    let r = grading.powf(1.0 / (n as f64 - 1.0));
+    let first = len * (r - 1.0) / (r.powi(n as i32) - 1.0);
+    first.min(first * grading)
+}
+
+pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
+    let case = Case::load(path)?;
+    let d = derive(&case);
+    println!("case         {} ({})", case.case.name, path.display());
+    if !case.case.description.is_empty() {
+        println!("             {}", case.case.description);
+    }
+    if case.mesh.is_some() {
+        println!("cells        {}", d.cells);
+    }
+    if let Some(h) = d.min_cell_size {
+        println!("min cell     {h:.4e} m");
+    }
+    if let Some(u) = d.velocity_scale {
+        println!("velocity     {u:.4e} m/s (largest imposed)");
+    }
+    if let Some(co) = d.courant_estimate {
+        let note = if co > 1.0 { "  (above 1: expect trouble; lower time.dt)" } else { "" };
+        println!("Courant      {co:.4} (estimate from the imposed velocity){note}");
+    }
+    if let Some(re) = d.reynolds {
+        println!("Reynolds     {re:.4e}");
+    }
+    match (case.time.dt, case.time.steps, case.time.end_time) {
+        (Some(dt), Some(n), _) => println!("time         {n} steps of {dt:e} s = {:.4e} s", dt * n as f64),
+        (Some(dt), None, Some(t)) => println!("time         {} steps of {dt:e} s to t = {t:e} s", (t / dt).ceil()),
+        (None, _, _) => println!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN)),
+        _ => {}
+    }
+    for line in crate::run::derived_particle_lines(&case) {
+        println!("{line}");
+    }
+    println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
+    println!("ok: the case is valid");
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn graded_cells_sum_to_the_length() {
+        let (len, n, g) = (2.0_f64, 10, 4.0_f64);
+        let r = g.powf(1.0 / (n as f64 - 1.0));
+        let first = smallest_graded_cell(len, n, g);
+        let total: f64 = (0..n).map(|i| first * r.powi(i)).sum();
+        assert!((total - len).abs() < 1e-12);
+        assert!((smallest_graded_cell(len, n, 1.0 / g) - first).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,102 @@
+//! `spillage verify`: runs the verification ladder and reports one row per checked quantity.
+//!
+//! Every verification case is a plain case file with a `[verify]` section naming its check; the
+//! procedure that compares the run with the exact answer lives in the module of its model
+//! (`fluid`, `dem`, …). The solvers never know they are being verified.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use spillage_model::case::Case;
+
+/// One checked quantity: the stable row of `spillage verify --json`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CheckRow {
+    /// Case name (`[case] name`).
+    pub case: String,
+    /// What was measured, e.g. `u_theta rms error 64x16` or `observed order u_theta`.
+    pub quantity: String,
+    /// `reference`, `fast` or `analytic`.
+    pub solver: String,
+    pub value: f64,
+    /// The exact or published value it is compared with.
+    pub reference: f64,
+    /// |value − reference| (or the relative form, as the check states in `quantity`).
+    pub error: f64,
+    /// Largest acceptable error (or smallest acceptable value for orders; see `quantity`).
+    pub tolerance: f64,
+    pub pass: bool,
+}
+
+impl CheckRow {
+    /// A row that passes when |value − reference| ≤ tolerance.
+    pub fn absolute(case: &str, quantity: impl Into<String>, solver: &str, value: f64, reference: f64, tolerance: f64) -> Self {
+        let error = (value - reference).abs();
+        Self { case: case.into(), quantity: quantity.into(), solver: solver.into(), value, reference, error, tolerance, pass: error <= tolerance }
+    }
+
+    /// A row that passes when |value − reference| / |reference| ≤ tolerance.
+    pub fn relative(case: &str, quantity: impl Into<String>, solver: &str, value: f64, reference: f64, tolerance: f64) -> Self {
+        let error = (value - reference).abs() / reference.abs().max(f64::MIN_POSITIVE);
+        Self { case: case.into(), quantity: quantity.into(), solver: solver.into(), value, reference, error, tolerance, pass: error <= tolerance }
+    }
+
+    /// A row that passes when `value ≥ minimum` (observed convergence orders); `error` is the
+    /// shortfall below the minimum (0 when it passes).
+    pub fn at_least(case: &str, quantity: impl Into<String>, solver: &str, value: f64, minimum: f64) -> Self {
+        let error = (minimum - value).max(0.0);
+        Self { case: case.into(), quantity: quantity.into(), solver: solver.into(), value, reference: minimum, error, tolerance: 0.0, pass: value >= minimum }
+    }
+
+    /// A row that passes when `value ≤ maximum` (imbalances, errors with no exact target).
+    pub fn at_most(case: &str, quantity: impl Into<String>, solver: &str, value: f64, maximum: f64) -> Self {
+        Self { case: case.into(), quantity: quantity.into(), solver: solver.into(), value, reference: 0.0, error: value.abs(), tolerance: maximum, pass: value.abs() <= maximum }
+    }
+}
+
+/// Runs the check named in `case.verify`. `full` adds the fine levels.
+pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+    let Some(verify) = &case.verify else {
+        anyhow::bail!("{}: not a verification case (it has no [verify] section)", case.path.display());
+    };
+    let check = verify.check.as_str();
+    let rows = dispatch(case, check, full)?;
+    if rows.is_empty() {
+        anyhow::bail!("{}: check `{check}` produced no rows", case.path.display());
+    }
+    Ok(rows)
+}
+
+/// Each model's verification module lists its checks in `CHECKS` and runs them in `run_check`.
+fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+    let _ = full;
+    anyhow::bail!(
+        "{}: unknown verification check `{check}` in [verify] check; known checks: {}",
+        case.path.display(),
+        known_checks().join(", ")
+    )
+}
+
+/// Names accepted in `[verify] check`.
+pub fn known_checks() -> Vec<&'static str> {
+    Vec::new()
+}
+
+/// The case files of the verification ladder, sorted by path.
+pub fn ladder(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut found = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| anyhow::anyhow!("cannot list {}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry?.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "toml") {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}

@@ -1,0 +1,61 @@
+//! `spillage verify`: runs each case of the ladder and prints its rows as a table or JSON.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use spillage_model::case::Case;
+
+use spillage::verify::{ladder, run_case, CheckRow};
+
+/// Stable JSON output of `spillage verify --json` (documented in the README).
+#[derive(serde::Serialize)]
+struct Report<'a> {
+    format: &'static str,
+    full: bool,
+    passed: usize,
+    failed: usize,
+    rows: &'a [CheckRow],
+}
+
+pub fn verify(inputs: &[PathBuf], json: bool, full: bool) -> anyhow::Result<ExitCode> {
+    let inputs = if inputs.is_empty() { vec![PathBuf::from("cases/verification")] } else { inputs.to_vec() };
+    let mut files = Vec::new();
+    for input in &inputs {
+        if input.is_dir() {
+            files.extend(ladder(input)?);
+        } else {
+            files.push(input.clone());
+        }
+    }
+    let mut rows = Vec::new();
+    for file in &files {
+        let case = Case::load(file)?;
+        if case.verify.is_none() && inputs.iter().all(|i| i.as_path() != file.as_path()) {
+            continue; // a plain case inside a folder of the ladder: not a check
+        }
+        if !json {
+            eprintln!("verifying {} …", file.display());
+        }
+        rows.extend(run_case(&case, full)?);
+    }
+    let failed = rows.iter().filter(|r| !r.pass).count();
+    if json {
+        let report = Report { format: "spillage-verify/1", full, passed: rows.len() - failed, failed, rows: &rows };
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_table(&rows);
+        println!("{} passed, {} failed", rows.len() - failed, failed);
+    }
+    Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn print_table(rows: &[CheckRow]) {
+    println!("{:<28} {:<40} {:<9} {:>12} {:>12} {:>10} {:>10}  result", "case", "quantity", "solver", "value", "reference", "error", "tolerance");
+    for r in rows {
+        println!(
+            "{:<28} {:<40} {:<9} {:>12.5e} {:>12.5e} {:>10.3e} {:>10.3e}  {}",
+            r.case, r.quantity, r.solver, r.value, r.reference, r.error, r.tolerance, if r.pass { "pass" } else { "FAIL" }
+        );
+    }
+}
+
