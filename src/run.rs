@@ -32,7 +32,13 @@ pub fn derived_particle_lines(case: &Case) -> Vec<String> {
 
 /// Builds the solver a case needs.
 fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
-    let _ = (case, choice, state);
+    // Particles-only cases: the reference DEM (the fast DEM does not exist yet).
+    if case.fluid.is_none() && case.particles.is_some() {
+        let _ = choice;
+        let dem = spillage_reference::dem::ReferenceDem::new(case, state.unwrap_or_default()).map_err(|e| anyhow::anyhow!("{}: {e}", case.path.display()))?;
+        return Ok(Box::new(dem));
+    }
+    let _ = (choice, state);
     anyhow::bail!(
         "{}: no solver for this case yet (fluid: {}, particles: {})",
         case.path.display(),

@@ -523,6 +523,8 @@ fn pile(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
     let count = state.particles.len();
     let mut dem = solver(case, state)?;
     let steps = case.time.steps.ok_or_else(|| anyhow!("{}: needs time.steps", case.path.display()))?;
+    // The full pile is deeper and takes longer to settle.
+    let steps = if full { params(case).get("full_steps").and_then(|v| v.as_integer()).map(|n| n as u64).unwrap_or(steps) } else { steps };
     let mut peak: f64 = 0.0;
     for _ in 0..steps {
         dem.step().map_err(|e| anyhow!("{}: {e}", case.path.display())).context("pile run")?;
