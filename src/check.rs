@@ -130,7 +130,7 @@ mod tests {
         let (len, n, g) = (2.0_f64, 10, 4.0_f64);
         let r = g.powf(1.0 / (n as f64 - 1.0));
         let first = smallest_graded_cell(len, n, g);
-        let total: f64 = (0..n).map(|i| first * r.powi(i)).sum();
+        let total: f64 = (0..n).map(|i| first * r.powi(i as i32)).sum();
         assert!((total - len).abs() < 1e-12);
         assert!((smallest_graded_cell(len, n, 1.0 / g) - first).abs() < 1e-12);
     }

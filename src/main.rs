@@ -1,5 +1,6 @@
 //! `spillage`: the command-line program. Thin: parses, calls the library crates, reports.
 
+mod analytic_cmd;
 mod check;
 mod run;
 mod verify_cmd;
@@ -49,6 +50,9 @@ enum Command {
         case: PathBuf,
     },
     /// Run the verification ladder: one row per checked quantity; exit status 1 if any fails.
+    /// Closed-form and semi-analytic answers the solvers are checked against
+    /// (`spillage analytic --list`).
+    Analytic(analytic_cmd::AnalyticArgs),
     Verify {
         /// Case files or folders (default: cases/verification).
         cases: Vec<PathBuf>,
@@ -67,6 +71,7 @@ fn main() -> ExitCode {
         Command::Run { case, solver, out, threads, restart } => run::run(&run::RunOptions { case, solver, out, threads, restart }),
         Command::Check { case } => check::check(&case),
         Command::Verify { cases, json, full } => verify_cmd::verify(&cases, json, full),
+        Command::Analytic(args) => analytic_cmd::run(&args),
     };
     match result {
         Ok(code) => code,

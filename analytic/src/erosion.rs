@@ -144,7 +144,8 @@ pub fn cutting_angle_function(
     Ok(if theta <= critical_angle(k) {
         (k * (2.0 * theta).sin() - theta.sin().powi(2)) / (2.0 * k * k)
     } else {
-        let high = theta.cos().powi(2);
+        // sin(π/2 − θ) instead of cos θ: exactly 0 at normal impact.
+        let high = (std::f64::consts::FRAC_PI_2 - theta).sin().powi(2);
         match variant {
             AngleFunction::ThesisLiteral => high,
             AngleFunction::Continuous => 0.5 * high,
@@ -238,7 +239,7 @@ pub fn finnie_angle_function(angle: f64, force_ratio: f64) -> Result<f64> {
     Ok(if theta.tan() <= k / 6.0 {
         (2.0 * theta).sin() - 6.0 / k * theta.sin().powi(2)
     } else {
-        k / 6.0 * theta.cos().powi(2)
+        k / 6.0 * (std::f64::consts::FRAC_PI_2 - theta).sin().powi(2)
     })
 }
 

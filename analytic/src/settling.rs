@@ -304,6 +304,17 @@ impl SettlingSphere {
         Ok((time, distance))
     }
 
+    /// Particle response time T_p = v_t/g = √(4(ρ_p − ρ_c) d/(3 C_d ρ_c g)) for a fixed C_d
+    /// (fluid-dem-model.md §5.9, Eq. 3.64 with the missing g restored [E]).
+    pub fn response_time(&self, drag_coefficient: f64) -> Result<f64> {
+        positive("drag_coefficient", drag_coefficient)?;
+        Ok(
+            (4.0 * (self.particle_density - self.fluid_density) * self.diameter
+                / (3.0 * drag_coefficient * self.fluid_density * self.gravity))
+                .sqrt(),
+        )
+    }
+
     /// wear-model.md Eq. 4.26: Stokes settling with the *buoyant* mass (ρ_p − ρ_f)V as inertia and
     /// no added mass, v = v_t (1 − exp(−t/τ_b)), τ_b = 2R²(ρ_p − ρ_f)/(9μ). This is how the wear
     /// thesis wrote its reference (§12.2 [R]: needed to reproduce its 0.00784 m/s error figure).
@@ -476,6 +487,29 @@ mod tests {
             (t - 0.1032).abs() < 5e-5 && (x - 0.0522).abs() < 5e-5,
             "t={t}, x={x}"
         );
+    }
+
+    #[test]
+    fn cutter_scale_numbers_match_spec() {
+        // spillage-and-flow-verification.md Tab. 2.1 (derived check: quartz, Eqs. 3.38 + 3.41):
+        // settling velocity 1.9 (80 mm), 1 (20 mm), 0.73 m/s (10 mm), printed to 1–2 digits.
+        let water = |d: f64| SettlingSphere::new(d, 2650.0, 998.2, 1.003e-6, 9.81, 0.5).unwrap();
+        let u = |d: f64| water(d).terminal_velocity(DragLaw::BrownLawler).unwrap();
+        assert!((u(0.08).velocity - 1.9).abs() < 0.05);
+        assert!((u(0.02).velocity - 1.0).abs() < 0.05);
+        // 0.7358 m/s prints as "0.73" in Tab. 2.1 (truncated, not rounded): allow 0.01.
+        assert!((u(0.01).velocity - 0.73).abs() < 0.01);
+        assert!(
+            (u(0.08).reynolds / 1.5e5 - 1.0).abs() < 0.05
+                && (u(0.01).reynolds / 7300.0 - 1.0).abs() < 0.01
+        );
+        // fluid-dem-model.md U-13: d = 0.08 m, ρ_p = 2200, ρ_c = 1000, C_d = 0.4: T_p = 0.18061 s,
+        // St = T_p ω = 0.567 at 30 rpm and 3.40 for the 6-blade passing (thesis 0.18 s, 0.55, 3.3).
+        let rock = SettlingSphere::new(0.08, 2200.0, 1000.0, 1e-6, 9.81, 0.5).unwrap();
+        let tp = rock.response_time(0.4).unwrap();
+        assert!((tp - 0.18061).abs() < 5e-6);
+        assert!((tp * std::f64::consts::PI - 0.567).abs() < 5e-4);
+        assert!((tp * 6.0 * std::f64::consts::PI - 3.40).abs() < 5e-3);
     }
 
     #[test]

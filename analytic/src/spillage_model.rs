@@ -316,7 +316,7 @@ pub struct SpillageSolution {
     pub alpha_prime_top: f64,
     /// α'₂ [s·m³/kg].
     pub alpha_prime_bottom: f64,
-    /// Mean outflow velocity u_rad,1 = α ω R̄₁ t₁ [m/s] (Eq. 4.57, segment averaged).
+    /// Mean outflow velocity u_rad,1 = α ω R̄₁ t₁ [m/s] (Eq. 4.57, segment averaged); 0 without outflow.
     pub outflow_velocity: f64,
     pub geometry: SegmentGeometry,
     /// Whether outflow exists (w₁ > 0).
@@ -402,7 +402,11 @@ pub fn evaluate(inputs: &SpillageInputs, w1: f64) -> SpillageSolution {
         blade_pressure_bottom,
         alpha_prime_top,
         alpha_prime_bottom,
-        outflow_velocity: alpha * omega * g.mean_radius_sq_top.sqrt() * g.tan_blade_top,
+        outflow_velocity: if w1 > 0.0 {
+            alpha * omega * g.mean_radius_sq_top.sqrt() * g.tan_blade_top
+        } else {
+            0.0
+        },
         geometry: g,
         has_outflow: w1 > 0.0,
     }

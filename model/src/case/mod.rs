@@ -100,7 +100,16 @@ impl Case {
         if let Some(rotor) = &self.rotor {
             rotor.validate()?;
             match &self.mesh {
-                Some(MeshSection::RotorStator { .. }) if rotor.zone == "rotor" => {}
+                Some(MeshSection::RotorStator { .. }) if rotor.zone == "rotor" => {
+                    // The generator builds the rotor about the z axis through the origin.
+                    let [ax, ay, az] = rotor.axis;
+                    if ax != 0.0 || ay != 0.0 || az == 0.0 {
+                        return Err(FieldError::new("rotor.axis", format!("{:?}", rotor.axis), "[0, 0, ±1]: the rotor_stator mesh turns about z"));
+                    }
+                    if rotor.origin[0] != 0.0 || rotor.origin[1] != 0.0 {
+                        return Err(FieldError::new("rotor.origin", format!("{:?}", rotor.origin), "a point on the z axis ([0, 0, z]): the rotor_stator mesh turns about z"));
+                    }
+                }
                 Some(MeshSection::RotorStator { .. }) => {
                     return Err(FieldError::new("rotor.zone", format!("{:?}", rotor.zone), "\"rotor\" (the zone made by the rotor_stator generator)"))
                 }

@@ -1,6 +1,15 @@
 //! PNG line plots (plotters, bitmap backend, embedded font: no system font libraries).
+//!
+//! The font is DejaVu Sans, committed in `model/assets/fonts/` with its licence and compiled into
+//! the binary, so a fresh machine with only the Rust toolchain draws legible text.
 
+use super::atomic_file::{replace_with, temporary_sibling};
+use super::OutputError;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::prelude::*;
 use std::path::Path;
+use std::sync::OnceLock;
 
 /// One named curve.
 pub struct Series<'a> {
@@ -18,8 +27,393 @@ pub struct Plot<'a> {
     pub series: Vec<Series<'a>>,
 }
 
-/// Draws `plot` to a PNG file at `path`.
-pub fn write_png(plot: &Plot, path: &Path) -> Result<(), std::io::Error> {
-    let _ = (plot, path);
-    Err(std::io::Error::other("plotting not implemented yet"))
+/// Image size in pixels: wide enough for a legend beside four-digit tick labels.
+pub const WIDTH: u32 = 1000;
+pub const HEIGHT: u32 = 700;
+
+const DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// Distinct colours (the "tab10" palette), cycled when there are more series.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Series with at most this many points also get a marker at each point, so sparse data (and a
+/// single point, which draws no line) stays visible.
+const MARKER_LIMIT: usize = 60;
+
+/// Draws `plot` to a PNG file at `path` (written to a temporary sibling and renamed into place).
+///
+/// Refuses, naming series and point: NaN/infinite coordinates, non-positive values on a log axis,
+/// and a plot without any point.
+pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
+    let x_range = axis_range(path, plot, Axis::X)?;
+    let y_range = axis_range(path, plot, Axis::Y)?;
+    register_embedded_font().map_err(|e| OutputError::invalid(path, e))?;
+
+    let temporary = temporary_sibling(path);
+    // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
+    let resolution =
+        |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
+    let resolutions = (
+        resolution(plot.log_x, x_range),
+        resolution(plot.log_y, y_range),
+    );
+    let drawn = {
+        let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
+        let (x0, x1) = x_range;
+        let (y0, y1) = y_range;
+        let result = match (plot.log_x, plot.log_y) {
+            (false, false) => draw(&root, plot, resolutions, x0..x1, y0..y1),
+            (true, false) => draw(&root, plot, resolutions, (x0..x1).log_scale(), y0..y1),
+            (false, true) => draw(&root, plot, resolutions, x0..x1, (y0..y1).log_scale()),
+            (true, true) => draw(
+                &root,
+                plot,
+                resolutions,
+                (x0..x1).log_scale(),
+                (y0..y1).log_scale(),
+            ),
+        };
+        result.and_then(|()| root.present().map_err(|e| e.to_string()))
+    };
+    match drawn {
+        Ok(()) => replace_with(&temporary, path),
+        Err(message) => {
+            let _ = std::fs::remove_file(&temporary);
+            Err(OutputError::Io {
+                path: path.to_path_buf(),
+                source: std::io::Error::other(format!("drawing the plot failed: {message}")),
+            })
+        }
+    }
+}
+
+fn register_embedded_font() -> Result<(), String> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU_SANS).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err("the embedded DejaVu Sans font could not be parsed".to_string())
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Axis {
+    X,
+    Y,
+}
+
+/// The data range of one axis widened by a margin: 5 % of the span on each side (in decades on
+/// a log axis; at least 1e-6 of the values on a linear one); a zero span (one point, constant series) gets ±10 % of the value (±half a decade
+/// on a log axis, ±1 at zero) so the axis is never degenerate.
+fn axis_range(path: &Path, plot: &Plot, axis: Axis) -> Result<(f64, f64), OutputError> {
+    let (name, log) = match axis {
+        Axis::X => ("x", plot.log_x),
+        Axis::Y => ("y", plot.log_y),
+    };
+    let mut low = f64::INFINITY;
+    let mut high = f64::NEG_INFINITY;
+    for series in &plot.series {
+        for (index, &(x, y)) in series.points.iter().enumerate() {
+            let value = if axis == Axis::X { x } else { y };
+            if !value.is_finite() {
+                return Err(OutputError::NonFinite {
+                    path: path.to_path_buf(),
+                    field: format!("series `{}` {name}", series.label),
+                    index,
+                    value,
+                });
+            }
+            if log && value <= 0.0 {
+                return Err(OutputError::invalid(
+                    path,
+                    format!(
+                        "series `{}` point {index} has {name} = {value}, but the {name} axis is \
+                         logarithmic and needs positive values",
+                        series.label
+                    ),
+                ));
+            }
+            low = low.min(value);
+            high = high.max(value);
+        }
+    }
+    if low > high {
+        return Err(OutputError::invalid(
+            path,
+            format!("plot `{}` has no data points", plot.title),
+        ));
+    }
+    let range = if log {
+        let (a, b) = (low.log10(), high.log10());
+        let pad = if b > a { 0.05 * (b - a) } else { 0.5 };
+        (10f64.powf(a - pad), 10f64.powf(b + pad))
+    } else {
+        let span = high - low;
+        // A span below a millionth of the values (round-off noise on a constant) would need
+        // tick labels too long to fit; such an axis shows the values to 7 digits instead.
+        let floor = 1e-6 * low.abs().max(high.abs());
+        let pad = if span > 0.0 {
+            (0.05 * span).max(floor)
+        } else if low != 0.0 {
+            0.1 * low.abs()
+        } else {
+            1.0
+        };
+        (low - pad, high + pad)
+    };
+    if !(range.0.is_finite() && range.1.is_finite() && range.0 < range.1) {
+        return Err(OutputError::invalid(
+            path,
+            format!("the {name} data range {low:e}..{high:e} is too wide to draw"),
+        ));
+    }
+    Ok(range)
+}
+
+/// Tick label text with as many significant digits as the axis resolution needs (4 on a log
+/// axis, where `resolution` is 0): plain numbers for ordinary magnitudes, exponent form for very
+/// small or large ones. A tick smaller than half the resolution is round-off of zero (e.g.
+/// 5.6e-17 on an axis from -1 to 1) and prints as "0".
+fn tick_text(value: f64, resolution: f64) -> String {
+    let magnitude = value.abs();
+    if magnitude == 0.0 || magnitude < 0.5 * resolution {
+        return "0".to_string();
+    }
+    let exponent = magnitude.log10().floor() as i32;
+    let significant = if resolution > 0.0 {
+        (exponent - resolution.log10().floor() as i32 + 1).clamp(1, 15)
+    } else {
+        4
+    } as usize;
+    let trim = |text: &str| -> String {
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text.to_string()
+        }
+    };
+    if (1e-3..1e5).contains(&magnitude) {
+        let decimals = (significant as i32 - 1 - exponent).max(0) as usize;
+        trim(&format!("{value:.decimals$}"))
+    } else {
+        let precision = significant - 1;
+        let text = format!("{value:.precision$e}");
+        let (mantissa, power) = text.split_once('e').unwrap_or((&text, "0"));
+        format!("{}e{power}", trim(mantissa))
+    }
+}
+
+fn draw<XR, YR>(
+    root: &DrawingArea<BitMapBackend, Shift>,
+    plot: &Plot,
+    (x_resolution, y_resolution): (f64, f64),
+    x_spec: XR,
+    y_spec: YR,
+) -> Result<(), String>
+where
+    XR: AsRangedCoord<Value = f64>,
+    YR: AsRangedCoord<Value = f64>,
+    XR::CoordDescType: ValueFormatter<f64>,
+    YR::CoordDescType: ValueFormatter<f64>,
+{
+    let error = |e: &dyn std::fmt::Display| e.to_string();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(plot.title, ("sans-serif", 30))
+        .margin(20)
+        .x_label_area_size(60)
+        .y_label_area_size(110)
+        .build_cartesian_2d(x_spec, y_spec)
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(plot.x_label)
+        .y_desc(plot.y_label)
+        .axis_desc_style(("sans-serif", 22))
+        .label_style(("sans-serif", 17))
+        .x_label_formatter(&|v| tick_text(*v, x_resolution))
+        .y_label_formatter(&|v| tick_text(*v, y_resolution))
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()
+        .map_err(|e| error(&e))?;
+
+    for (index, series) in plot.series.iter().enumerate() {
+        let colour = PALETTE[index % PALETTE.len()];
+        let line_style = colour.stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(series.points.iter().copied(), line_style))
+            .map_err(|e| error(&e))?
+            .label(series.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+            });
+        if series.points.len() <= MARKER_LIMIT {
+            chart
+                .draw_series(
+                    series
+                        .points
+                        .iter()
+                        .map(|&point| Circle::new(point, 4, colour.filled())),
+                )
+                .map_err(|e| error(&e))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .label_font(("sans-serif", 18))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(&e))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::test_dir;
+
+    /// Width and height from a PNG's IHDR chunk, after checking the signature.
+    fn png_size(path: &Path) -> (u32, u32) {
+        let bytes = std::fs::read(path).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+        assert_eq!(&bytes[12..16], b"IHDR", "first chunk is IHDR");
+        let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+        (be(16), be(20))
+    }
+
+    fn series_points(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+        (1..=n).map(|i| (i as f64, f(i as f64))).collect()
+    }
+
+    #[test]
+    fn writes_a_png_of_the_declared_size_for_every_axis_kind() {
+        let dir = test_dir::fresh("plot_png");
+        let error = series_points(8, |h| 0.3 * h.powi(-2));
+        let first_order = series_points(8, |h| 0.5 * h.powi(-1));
+        let constant = series_points(8, |_| 0.2);
+        let single = [(3.0, 0.05)];
+        for (log_x, log_y) in [(false, false), (true, false), (false, true), (true, true)] {
+            let path = dir.join(format!("convergence_{log_x}_{log_y}.png"));
+            let plot = Plot {
+                title: "Convergence of the drag-law test (α, ρ, µ)",
+                x_label: "refinement level N",
+                y_label: "relative error",
+                log_x,
+                log_y,
+                series: vec![
+                    Series {
+                        label: "measured error",
+                        points: &error,
+                    },
+                    Series {
+                        label: "first order slope",
+                        points: &first_order,
+                    },
+                    Series {
+                        label: "constant",
+                        points: &constant,
+                    },
+                    Series {
+                        label: "single point",
+                        points: &single,
+                    },
+                ],
+            };
+            write_png(&plot, &path).unwrap();
+            assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        }
+        // Only the finished images remain: temporaries were renamed away.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 4);
+    }
+
+    #[test]
+    fn degenerate_data_draws_without_panicking() {
+        let dir = test_dir::fresh("plot_degenerate");
+        let cases: [&[(f64, f64)]; 5] = [
+            &[(0.0, 0.0)],
+            &[(1.0, 5.0), (1.0, 5.0)],
+            &[(-2.0, 1e-300), (-2.0, 2e-300)],
+            &[(0.0, 1.0), (1e-12, 1.0 + 1e-15)],
+            &[(0.0, 1e-9), (1.0, 3e-9), (2.0, 2e-9)],
+        ];
+        for (i, points) in cases.iter().enumerate() {
+            let path = dir.join(format!("degenerate_{i}.png"));
+            let plot = Plot {
+                title: "degenerate",
+                x_label: "x",
+                y_label: "y",
+                log_x: false,
+                log_y: false,
+                series: vec![Series { label: "s", points }],
+            };
+            write_png(&plot, &path).unwrap();
+            assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        }
+    }
+
+    #[test]
+    fn refuses_nan_nonpositive_log_data_and_empty_plots() {
+        let dir = test_dir::fresh("plot_refuse");
+        let path = dir.join("bad.png");
+        let with = |points: &[(f64, f64)], log_y: bool| {
+            let plot = Plot {
+                title: "t",
+                x_label: "x",
+                y_label: "y",
+                log_x: false,
+                log_y,
+                series: vec![Series {
+                    label: "torque",
+                    points,
+                }],
+            };
+            write_png(&plot, &path)
+        };
+        let e = with(&[(0.0, 1.0), (1.0, f64::NAN)], false).unwrap_err();
+        assert!(
+            matches!(&e, OutputError::NonFinite { field, index: 1, .. } if field == "series `torque` y"),
+            "{e}"
+        );
+        let e = with(&[(0.0, 1.0), (1.0, 0.0)], true).unwrap_err();
+        assert!(e.to_string().contains("logarithmic"), "{e}");
+        let e = with(&[], false).unwrap_err();
+        assert!(e.to_string().contains("no data points"), "{e}");
+        assert!(!path.exists());
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn tick_text_has_the_digits_the_axis_needs() {
+        // Linear axis 0..0.5: resolution 0.005.
+        assert_eq!(tick_text(0.30000000000000004, 0.005), "0.3");
+        assert_eq!(tick_text(0.45, 0.005), "0.45");
+        assert_eq!(tick_text(5.551115123125783e-17, 0.005), "0");
+        // Linear axis 0..3000: resolution 30.
+        assert_eq!(tick_text(1500.0, 30.0), "1500");
+        // An axis 1 ± 1e-9 needs ten decimals to tell its ticks apart.
+        assert_eq!(tick_text(1.0000000004, 2e-11), "1.0000000004");
+        assert_eq!(tick_text(2.5e7, 1e6), "2.5e7");
+        assert_eq!(tick_text(-1.25e-9, 1e-11), "-1.25e-9");
+        // Log axis: four significant digits, tiny values kept.
+        assert_eq!(tick_text(-0.0125, 0.0), "-0.0125");
+        assert_eq!(tick_text(1e-6, 0.0), "1e-6");
+        assert_eq!(tick_text(1e-17, 0.0), "1e-17");
+    }
 }
