@@ -5,6 +5,7 @@
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
 pub mod dem;
+pub mod fluid;
 
 use std::path::{Path, PathBuf};
 
@@ -74,6 +75,9 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
     if dem::CHECKS.contains(&check) {
         return dem::run_check(case, check, full);
     }
+    if fluid::CHECKS.contains(&check) {
+        return fluid::run_check(case, check, full);
+    }
     anyhow::bail!(
         "{}: unknown verification check `{check}` in [verify] check; known checks: {}",
         case.path.display(),
@@ -85,6 +89,7 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
 pub fn known_checks() -> Vec<&'static str> {
     let mut checks = Vec::new();
     checks.extend_from_slice(dem::CHECKS);
+    checks.extend_from_slice(fluid::CHECKS);
     checks
 }
 

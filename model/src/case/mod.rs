@@ -19,7 +19,7 @@ pub use error::{CaseError, CaseErrorKind, FieldError};
 pub use mesh_section::MeshSection;
 pub use sections::{CaseInfo, OutputSection, Physics, RotorSection, TimeControl, VerifySection};
 
-use crate::fluid::settings::{BoundaryCondition, FluidSection};
+use crate::fluid::settings::{BoundaryCondition, FluidSection, NumericsSection};
 use crate::particles::settings::ParticlesSection;
 use crate::walls::settings::WallSection;
 
@@ -32,6 +32,9 @@ pub struct Case {
     pub physics: Physics,
     pub time: TimeControl,
     pub fluid: Option<FluidSection>,
+    /// Fluid discretisation and PIMPLE settings.
+    #[serde(default)]
+    pub numerics: NumericsSection,
     pub mesh: Option<MeshSection>,
     pub rotor: Option<RotorSection>,
     /// Boundary condition per mesh patch name.
@@ -94,6 +97,7 @@ impl Case {
         if let Some(fluid) = &self.fluid {
             fluid.validate()?;
         }
+        self.numerics.validate()?;
         if let Some(mesh) = &self.mesh {
             mesh.validate()?;
         }

@@ -2,9 +2,9 @@
 
 use serde::Deserialize;
 
-use crate::case::error::{positive, FieldError};
+use crate::case::error::{finite_vector, in_range, positive, FieldError};
 
-/// `[fluid]`: fluid properties.
+/// `[fluid]`: fluid properties and the initial velocity field.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FluidSection {
@@ -12,51 +12,295 @@ pub struct FluidSection {
     pub density: f64,
     /// Kinematic viscosity ν [m²/s].
     pub kinematic_viscosity: f64,
+    /// Velocity at t = 0 (default: at rest). Pressure starts at 0.
+    #[serde(default)]
+    pub initial: InitialVelocity,
 }
 
 impl FluidSection {
     pub fn validate(&self) -> Result<(), FieldError> {
         positive("fluid.density", self.density, "kg/m³")?;
-        positive("fluid.kinematic_viscosity", self.kinematic_viscosity, "m²/s")
+        positive("fluid.kinematic_viscosity", self.kinematic_viscosity, "m²/s")?;
+        self.initial.validate("fluid.initial")
+    }
+}
+
+/// `[fluid.initial]`: the initial velocity field, selected by `type`.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum InitialVelocity {
+    /// u = 0 everywhere.
+    #[default]
+    Rest,
+    /// u = `velocity` everywhere [m/s].
+    Uniform { velocity: [f64; 3] },
+    /// 2-D Taylor–Green vortex in the x–y plane:
+    /// u = U sin(x/L) cos(y/L), v = −U cos(x/L) sin(y/L), w = 0 (periodic on a box of side 2πL).
+    TaylorGreen {
+        /// Velocity scale U [m/s].
+        speed: f64,
+        /// Length scale L [m] (the box side is 2πL).
+        length: f64,
+    },
+}
+
+impl InitialVelocity {
+    pub fn validate(&self, key: &str) -> Result<(), FieldError> {
+        match self {
+            InitialVelocity::Rest => Ok(()),
+            InitialVelocity::Uniform { velocity } => finite_vector(&format!("{key}.velocity"), *velocity),
+            InitialVelocity::TaylorGreen { speed, length } => {
+                if !speed.is_finite() {
+                    return Err(FieldError::new(format!("{key}.speed"), speed, "a finite velocity in m/s"));
+                }
+                positive(&format!("{key}.length"), *length, "m")
+            }
+        }
+    }
+
+    /// Velocity at a point.
+    pub fn velocity_at(&self, x: [f64; 3]) -> [f64; 3] {
+        match self {
+            InitialVelocity::Rest => [0.0; 3],
+            InitialVelocity::Uniform { velocity } => *velocity,
+            InitialVelocity::TaylorGreen { speed, length } => {
+                let (a, b) = (x[0] / length, x[1] / length);
+                [speed * a.sin() * b.cos(), -speed * a.cos() * b.sin(), 0.0]
+            }
+        }
     }
 }
 
 /// `[boundary.<patch>]`: the condition on one mesh patch, selected by `type`.
-#[derive(Clone, Debug, Deserialize)]
+///
+/// Periodic, empty (2-D front/back) and sliding-interface patches need no entry: their
+/// treatment follows from the mesh.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum BoundaryCondition {
-    /// No-slip wall; `velocity` for a moving wall, `rotating = true` for a wall turning with the
-    /// rotor (velocity ω×r).
+    /// No-slip wall. Its velocity is `velocity`
+    /// + `angular_velocity` × (x − `origin`) about `axis` (a wall turning in place, e.g. the inner
+    /// cylinder of the wall-velocity Couette case)
+    /// + ω_rotor × (x − rotor origin) if `rotating = true` (a wall attached to the rotor).
+    /// Normal flux: the wall's own normal velocity (zero for walls sliding along themselves).
     Wall {
         #[serde(default)]
         velocity: [f64; 3],
         #[serde(default)]
         rotating: bool,
+        /// Angular velocity of a wall turning in place [rad/s].
+        #[serde(default)]
+        angular_velocity: f64,
+        #[serde(default = "z_axis")]
+        axis: [f64; 3],
+        #[serde(default)]
+        origin: [f64; 3],
     },
+    /// Fixed velocity (the flux u·S may point in or out); pressure by the wall condition of
+    /// `[numerics] pressure_wall` (spec §8.8).
+    VelocityInlet { velocity: [f64; 3] },
+    /// Fixed pressure `pressure` [Pa], zero-gradient velocity.
+    PressureOutlet {
+        #[serde(default)]
+        pressure: f64,
+    },
+    /// Symmetry plane: no normal flux, zero normal gradient of the tangential velocity.
+    Symmetry,
+}
+
+fn z_axis() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
 }
 
 impl BoundaryCondition {
     /// `key` is the section path, e.g. `boundary.inner`.
     pub fn validate(&self, key: &str) -> Result<(), FieldError> {
         match self {
-            BoundaryCondition::Wall { velocity, rotating } => {
-                crate::case::error::finite_vector(&format!("{key}.velocity"), *velocity)?;
+            BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin } => {
+                finite_vector(&format!("{key}.velocity"), *velocity)?;
+                finite_vector(&format!("{key}.axis"), *axis)?;
+                finite_vector(&format!("{key}.origin"), *origin)?;
+                if !angular_velocity.is_finite() {
+                    return Err(FieldError::new(format!("{key}.angular_velocity"), angular_velocity, "a finite angular velocity in rad/s"));
+                }
                 if *rotating && velocity.iter().any(|v| *v != 0.0) {
                     return Err(FieldError::new(format!("{key}.velocity"), format!("{velocity:?}"), "no velocity on a rotating wall (its velocity is ω×r)"));
                 }
+                if *rotating && *angular_velocity != 0.0 {
+                    return Err(FieldError::new(format!("{key}.angular_velocity"), angular_velocity, "0 on a wall with rotating = true (it turns with the rotor)"));
+                }
+                if axis.iter().map(|a| a * a).sum::<f64>().sqrt() < 1e-12 {
+                    return Err(FieldError::new(format!("{key}.axis"), format!("{axis:?}"), "a non-zero direction vector"));
+                }
                 Ok(())
             }
+            BoundaryCondition::VelocityInlet { velocity } => finite_vector(&format!("{key}.velocity"), *velocity),
+            BoundaryCondition::PressureOutlet { pressure } => {
+                if pressure.is_finite() {
+                    Ok(())
+                } else {
+                    Err(FieldError::new(format!("{key}.pressure"), pressure, "a finite pressure in Pa"))
+                }
+            }
+            BoundaryCondition::Symmetry => Ok(()),
         }
     }
 }
 
+
 impl BoundaryCondition {
-    /// Largest speed this condition imposes, given the largest radius of the mesh (for rotating
-    /// walls). `None` when it imposes no velocity.
+    /// Largest speed this condition imposes, given the largest radius of the mesh (for walls
+    /// turning in place). `None` when it imposes no velocity. A wall with `rotating = true`
+    /// moves with the rotor, whose speed the caller adds.
     pub fn imposed_speed(&self, r_max: f64) -> Option<f64> {
-        let _ = r_max;
+        let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         match self {
-            BoundaryCondition::Wall { velocity, .. } => Some(velocity.iter().map(|v| v * v).sum::<f64>().sqrt()),
+            BoundaryCondition::Wall { velocity, angular_velocity, origin, .. } => {
+                Some(norm(velocity) + angular_velocity.abs() * (r_max + norm(origin)))
+            }
+            BoundaryCondition::VelocityInlet { velocity } => Some(norm(velocity)),
+            BoundaryCondition::PressureOutlet { .. } | BoundaryCondition::Symmetry => None,
         }
+    }
+}
+
+/// Convection scheme for the momentum equation (spec §8.10).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ConvectionScheme {
+    /// Central (linear interpolation); second order.
+    #[default]
+    Linear,
+    /// First-order upwind.
+    Upwind,
+    /// OpenFOAM's `limitedLinearV 1`: linear limited towards upwind by a TVD limiter.
+    LimitedLinear,
+    /// `linear_fraction`·linear + (1 − `linear_fraction`)·upwind.
+    Blended,
+}
+
+/// Time scheme (spec §8.2; the thesis' "backward" is BDF2).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum TimeScheme {
+    /// BDF2, started with one implicit-Euler step.
+    #[default]
+    Backward,
+    Euler,
+}
+
+/// Pressure condition at boundaries with a prescribed flux (walls, velocity inlets, symmetry).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum PressureWallCondition {
+    /// Spec §8.8 (T4.42): the normal gradient that makes the corrected flux equal the
+    /// prescribed one, with A⁻¹H extrapolated from the cell (OpenFOAM
+    /// `fixedFluxExtrapolatedPressure`).
+    #[default]
+    FixedFluxExtrapolated,
+    /// dp/dn = 0 (the wrong condition at rotating walls, kept for the comparison of spec
+    /// spillage-and-flow-verification.md §3.4).
+    ZeroGradient,
+}
+
+/// `[numerics]`: discretisation and PIMPLE settings of the fluid solver (spec §8.5, §8.10).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NumericsSection {
+    #[serde(default)]
+    pub convection: ConvectionScheme,
+    /// Linear share of the `blended` scheme.
+    #[serde(default = "NumericsSection::default_linear_fraction")]
+    pub linear_fraction: f64,
+    #[serde(default)]
+    pub time_scheme: TimeScheme,
+    /// Maximum PIMPLE outer (SIMPLE) iterations per step.
+    #[serde(default = "NumericsSection::default_outer")]
+    pub max_outer_iterations: usize,
+    /// Outer loops stop once the initial pressure residual of an outer iteration is below this
+    /// (spec §8.5, App. C "p_ini").
+    #[serde(default = "NumericsSection::default_p_initial")]
+    pub p_initial_residual: f64,
+    /// PISO correctors per outer iteration.
+    #[serde(default = "one")]
+    pub piso_correctors: usize,
+    /// Extra pressure solves per corrector for the explicit non-orthogonal correction.
+    #[serde(default = "one")]
+    pub non_orthogonal_correctors: usize,
+    /// Momentum under-relaxation (Patankar, implicit).
+    #[serde(default = "unit")]
+    pub relax_velocity: f64,
+    /// Pressure under-relaxation.
+    #[serde(default = "unit")]
+    pub relax_pressure: f64,
+    #[serde(default)]
+    pub pressure_wall: PressureWallCondition,
+    /// Extra kinematic body force [m/s²] (drives periodic channels; equivalent to a mean
+    /// pressure gradient −∇P).
+    #[serde(default)]
+    pub body_force: [f64; 3],
+    /// Include gravity in the fluid momentum (a hydrostatic pressure in single-phase flow).
+    #[serde(default = "yes")]
+    pub fluid_gravity: bool,
+}
+
+fn one() -> usize {
+    1
+}
+fn unit() -> f64 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+
+impl Default for NumericsSection {
+    fn default() -> Self {
+        Self {
+            convection: ConvectionScheme::default(),
+            linear_fraction: Self::default_linear_fraction(),
+            time_scheme: TimeScheme::default(),
+            max_outer_iterations: Self::default_outer(),
+            p_initial_residual: Self::default_p_initial(),
+            piso_correctors: 1,
+            non_orthogonal_correctors: 1,
+            relax_velocity: 1.0,
+            relax_pressure: 1.0,
+            pressure_wall: PressureWallCondition::default(),
+            body_force: [0.0; 3],
+            fluid_gravity: true,
+        }
+    }
+}
+
+impl NumericsSection {
+    fn default_linear_fraction() -> f64 {
+        0.9
+    }
+    fn default_outer() -> usize {
+        20
+    }
+    fn default_p_initial() -> f64 {
+        1e-3
+    }
+
+    pub fn validate(&self) -> Result<(), FieldError> {
+        in_range("numerics.linear_fraction", self.linear_fraction, 0.0, 1.0, "")?;
+        if !(1..=1000).contains(&self.max_outer_iterations) {
+            return Err(FieldError::new("numerics.max_outer_iterations", self.max_outer_iterations, "a whole number from 1 to 1000"));
+        }
+        positive("numerics.p_initial_residual", self.p_initial_residual, "(relative residual)")?;
+        if !(1..=100).contains(&self.piso_correctors) {
+            return Err(FieldError::new("numerics.piso_correctors", self.piso_correctors, "a whole number from 1 to 100"));
+        }
+        if self.non_orthogonal_correctors > 100 {
+            return Err(FieldError::new("numerics.non_orthogonal_correctors", self.non_orthogonal_correctors, "a whole number from 0 to 100"));
+        }
+        for (key, value) in [("numerics.relax_velocity", self.relax_velocity), ("numerics.relax_pressure", self.relax_pressure)] {
+            if !(value.is_finite() && value > 0.0 && value <= 1.0) {
+                return Err(FieldError::new(key, value, "a relaxation factor in (0, 1]"));
+            }
+        }
+        finite_vector("numerics.body_force", self.body_force)
     }
 }

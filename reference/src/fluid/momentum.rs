@@ -1,0 +1,173 @@
+//! Momentum matrix of spec (T4.16) in volume-averaged form, per cell (integrated over the
+//! cell, units m⁴/s² per component, coefficients m³/s):
+//!
+//!   [c₀ αⁿu V + c₁ αᵒuᵒ V + c₂ αᵒᵒuᵒᵒ V]/Δt + Σ_f α_f u_f (φ_f − φ_mesh,f)
+//!     = Σ_f (αν)_f (∇u)_f·S_f + Σ_f (αν)_f [(∇u)_fᵀ − ⅔ tr(∇u)_f I]·S_f + g V − V ∇P.
+//!
+//! Convection is implicit with the latest flux φ* and the scheme's face weight; the Laplacian
+//! is implicit with the over-relaxed non-orthogonal split and an explicit correction; the
+//! transpose and dilatation parts are explicit from the latest iterate (spec §8.2). The pressure
+//! gradient is *not* part of the system: it is added to the right-hand side of the predictor
+//! and left out of H (spec T4.24).
+
+use spillage_model::fluid::settings::NumericsSection;
+use spillage_model::mesh::Vec3;
+
+use super::boundary::{Condition, Conditions};
+use super::geometry::{Geometry, RotorMotion};
+use super::gradient::directional;
+use super::linear::SparseMatrix;
+use super::schemes::convection_weight;
+
+/// Everything fixed during one time step.
+pub struct StepInputs<'a> {
+    pub geo: &'a Geometry,
+    pub conditions: &'a Conditions,
+    pub rotor: Option<&'a RotorMotion>,
+    pub numerics: &'a NumericsSection,
+    pub volumes: &'a [f64],
+    pub nu: f64,
+    pub dt: f64,
+    /// BDF coefficients (c₀, c₁, c₂) of d/dt ≈ (c₀ qⁿ + c₁ qᵒ + c₂ qᵒᵒ)/Δt.
+    pub time_coefficients: [f64; 3],
+    pub alpha: &'a [f64],
+    pub alpha_old: &'a [f64],
+    pub alpha_old_old: &'a [f64],
+    pub u_old: &'a [Vec3],
+    pub u_old_old: &'a [Vec3],
+    /// Kinematic body force (gravity + `numerics.body_force`) [m/s²].
+    pub body_force: Vec3,
+    /// Fixed boundary velocity of each boundary face (`None` for pressure/symmetry faces).
+    pub boundary_velocity: &'a [Option<Vec3>],
+}
+
+impl StepInputs<'_> {
+    /// ∂α/∂t · V per cell (zero without particles).
+    pub fn alpha_rate_volume(&self, cell: usize) -> f64 {
+        let [c0, c1, c2] = self.time_coefficients;
+        (c0 * self.alpha[cell] + c1 * self.alpha_old[cell] + c2 * self.alpha_old_old[cell]) * self.volumes[cell] / self.dt
+    }
+}
+
+/// The relaxed momentum matrix (same for all components) and its source without −V∇P.
+pub struct MomentumSystem {
+    pub matrix: SparseMatrix,
+    pub source: Vec<Vec3>,
+}
+
+/// Boundary velocity of every boundary face given the latest cell velocity.
+pub fn boundary_velocities(inputs: &StepInputs, u: &[Vec3]) -> Vec<Vec3> {
+    inputs
+        .geo
+        .boundary
+        .iter()
+        .enumerate()
+        .map(|(b, face)| match (&inputs.boundary_velocity[b], &inputs.conditions.conditions[face.patch]) {
+            (Some(ub), _) => *ub,
+            (None, Condition::Symmetry) => {
+                let n = face.area.normalize();
+                u[face.cell] - n * u[face.cell].dot(&n)
+            }
+            (None, _) => u[face.cell],
+        })
+        .collect()
+}
+
+/// Assembles the momentum system with the latest fluxes (`link_flux`, `boundary_flux`,
+/// absolute), velocity `u` and its gradient `grad_u`, then applies implicit under-relaxation
+/// a_P ← a_P/α_u, b ← b + (1 − α_u)/α_u · a_P u*.
+pub fn assemble(
+    inputs: &StepInputs,
+    link_flux: &[f64],
+    boundary_flux: &[f64],
+    u: &[Vec3],
+    grad_u: &[[Vec3; 3]],
+) -> MomentumSystem {
+    let geo = inputs.geo;
+    let n = geo.n_cells();
+    let numerics = inputs.numerics;
+    let mut m = SparseMatrix::new(n);
+    let mut source = vec![Vec3::zeros(); n];
+    let [c0, c1, c2] = inputs.time_coefficients;
+
+    // time derivative (BDF2 / Euler) and body force
+    for c in 0..n {
+        let v = inputs.volumes[c];
+        m.add_diagonal(c, c0 * inputs.alpha[c] * v / inputs.dt);
+        source[c] -= (inputs.u_old[c] * (c1 * inputs.alpha_old[c]) + inputs.u_old_old[c] * (c2 * inputs.alpha_old_old[c])) * (v / inputs.dt);
+        source[c] += inputs.body_force * v;
+    }
+
+    for (l, link) in geo.links.iter().enumerate() {
+        let (p, nb) = (link.owner, link.neighbour);
+        let alpha_f = link.interpolate(inputs.alpha[p], inputs.alpha[nb]);
+        // convection with the flux relative to the moving mesh (spec §4.1)
+        let f = link_flux[l] - link.mesh_flux;
+        let lambda = convection_weight(numerics.convection, numerics.linear_fraction, link, f, u, grad_u);
+        m.add_diagonal(p, alpha_f * f * lambda);
+        m.add_off_diagonal(p, nb, alpha_f * f * (1.0 - lambda));
+        m.add_diagonal(nb, -alpha_f * f * (1.0 - lambda));
+        m.add_off_diagonal(nb, p, -alpha_f * f * lambda);
+
+        // diffusion: implicit orthogonal part + explicit non-orthogonal correction
+        let gamma = inputs.nu * alpha_f;
+        let d = gamma * link.laplacian_coefficient();
+        m.add_diagonal(p, d);
+        m.add_diagonal(nb, d);
+        m.add_off_diagonal(p, nb, -d);
+        m.add_off_diagonal(nb, p, -d);
+        let grad_f = interpolate_tensor(link.weight, &grad_u[p], &grad_u[nb]);
+        let t = link.non_orthogonal_part();
+        let correction = directional(&grad_f, &t) * gamma;
+        // explicit transpose-gradient and dilatation parts (spec T4.16)
+        let explicit = explicit_stress(&grad_f, &link.area) * gamma;
+        source[p] += correction + explicit;
+        source[nb] -= correction + explicit;
+    }
+
+    let boundary_u = boundary_velocities(inputs, u);
+    for (b, face) in geo.boundary.iter().enumerate() {
+        let p = face.cell;
+        let alpha_p = inputs.alpha[p];
+        let f = boundary_flux[b] - face.mesh_flux;
+        let gamma = inputs.nu * alpha_p;
+        let d = gamma * face.area.norm() / face.normal_distance;
+        match &inputs.conditions.conditions[face.patch] {
+            Condition::FixedVelocity { .. } => {
+                source[p] -= boundary_u[b] * (alpha_p * f);
+                m.add_diagonal(p, d);
+                source[p] += boundary_u[b] * d;
+            }
+            Condition::FixedPressure { .. } => {
+                // zero-gradient velocity: u_f = u_P, no viscous flux
+                m.add_diagonal(p, alpha_p * f);
+            }
+            Condition::Symmetry => {
+                // tangential slip: viscous flux towards the face value of the latest iterate
+                m.add_diagonal(p, d);
+                source[p] += boundary_u[b] * d;
+            }
+        }
+        source[p] += explicit_stress(&grad_u[p], &face.area) * gamma;
+    }
+
+    // implicit under-relaxation (Patankar); exact at convergence (u = u*)
+    let relax = numerics.relax_velocity;
+    for c in 0..n {
+        let a = m.diagonal[c];
+        let relaxed = a / relax;
+        source[c] += u[c] * (relaxed - a);
+        m.diagonal[c] = relaxed;
+    }
+    MomentumSystem { matrix: m, source }
+}
+
+fn interpolate_tensor(w: f64, a: &[Vec3; 3], b: &[Vec3; 3]) -> [Vec3; 3] {
+    [a[0] * w + b[0] * (1.0 - w), a[1] * w + b[1] * (1.0 - w), a[2] * w + b[2] * (1.0 - w)]
+}
+
+/// [(∇u)ᵀ − ⅔ tr(∇u) I]·S for g[i][j] = ∂u_j/∂x_i: component j is Σ_i S_i ∂u_i/∂x_j − ⅔ (∇·u) S_j.
+fn explicit_stress(g: &[Vec3; 3], s: &Vec3) -> Vec3 {
+    let trace = g[0][0] + g[1][1] + g[2][2];
+    Vec3::new(g[0].dot(s), g[1].dot(s), g[2].dot(s)) - s * (2.0 / 3.0 * trace)
+}

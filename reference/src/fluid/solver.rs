@@ -1,0 +1,341 @@
+//! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
+
+use spillage_model::case::Case;
+use spillage_model::fluid::settings::{NumericsSection, TimeScheme};
+use spillage_model::fluid::state::FluidState;
+use spillage_model::mesh::{Mesh, Vec3};
+use spillage_model::solver::{Solver, SolverError, StepReport};
+use spillage_model::state::State;
+
+use super::boundary::Conditions;
+use super::diagnostics;
+use super::geometry::{Geometry, LinkOrigin, RotorMotion};
+use super::gradient::vector_gradient;
+use super::interface::interface_links;
+use super::momentum::{self, StepInputs};
+use super::pressure::{self, CorrectorFields};
+
+/// The reference fluid solver (single-phase until the coupling supplies α_c and particle forces).
+pub struct ReferenceFluid {
+    mesh: Mesh,
+    state: State,
+    conditions: Conditions,
+    numerics: NumericsSection,
+    nu: f64,
+    body_force: Vec3,
+    rotor: Option<RotorMotion>,
+    /// Axis and origin of the sliding interfaces (the rotor zone's rotation).
+    interface_axis: Option<(Vec3, Vec3)>,
+    dt: f64,
+}
+
+impl ReferenceFluid {
+    /// Sets up the solver for `case` on `mesh`. If `state.fluid` is `None` the fluid starts
+    /// from the case's initial velocity, zero pressure and α_c = 1.
+    pub fn new(case: &Case, mesh: Mesh, mut state: State) -> Result<Self, SolverError> {
+        let fluid = case.fluid.as_ref().ok_or_else(|| SolverError::Unsupported("the case has no [fluid] section".into()))?;
+        let dt = case.time.dt.ok_or_else(|| {
+            SolverError::Unsupported("the reference fluid solver needs a fixed time step `[time] dt` (max_courant is not supported yet)".into())
+        })?;
+        let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
+        let numerics = case.numerics.clone();
+        let mut body_force = Vec3::from(numerics.body_force);
+        if numerics.fluid_gravity {
+            body_force += Vec3::from(case.physics.gravity);
+        }
+
+        let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
+        let interface_axis = rotating_zone.map(|z| {
+            let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
+            (r.axis, r.origin)
+        });
+        let rotor = match (&case.rotor, rotating_zone) {
+            (Some(section), _) => {
+                let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| {
+                    SolverError::Unsupported(format!("rotor.zone = {:?} is not a zone of the mesh", section.zone))
+                })?;
+                if mesh.zones[zone].rotation.is_none() {
+                    return Err(SolverError::Unsupported(format!("mesh zone {:?} cannot rotate", section.zone)));
+                }
+                Some(RotorMotion {
+                    zone,
+                    axis: Vec3::from(section.axis).normalize(),
+                    origin: Vec3::from(section.origin),
+                    omega: section.angular_velocity(),
+                })
+            }
+            (None, _) => None,
+        };
+
+        let n_cells = mesh.cell_volumes.len();
+        if state.fluid.is_none() {
+            let mut f = FluidState::at_rest(n_cells, mesh.face_areas.len(), mesh.n_internal_faces);
+            for c in 0..n_cells {
+                let x = mesh.cell_centres[c];
+                f.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
+            }
+            f.velocity_old = f.velocity.clone();
+            // initial flux: the interpolated initial velocity (made divergence-free by the first step)
+            for face in 0..mesh.n_internal_faces {
+                let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
+                let w = mesh.face_weight[face];
+                let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
+                f.flux[face] = u.dot(&mesh.face_areas[face]);
+            }
+            state.fluid = Some(f);
+        }
+        let mut solver = ReferenceFluid { mesh, state, conditions, numerics, nu: fluid.kinematic_viscosity, body_force, rotor, interface_axis, dt };
+        solver.check_sizes()?;
+        if let Some(r) = &solver.rotor {
+            let angle = solver.state.rotor_angle;
+            set_zone_angle(&mut solver.mesh, r.zone, angle)?;
+        }
+        Ok(solver)
+    }
+
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Cell gradient of the kinematic pressure, ∇P (Gauss, linear face values, the stored
+    /// boundary pressures): the gradient the momentum equation uses.
+    pub fn pressure_gradient(&self) -> Vec<Vec3> {
+        let geo = self.geometry();
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let p_boundary: Vec<f64> = geo.boundary.iter().map(|face| fluid.boundary_pressure[face.index]).collect();
+        super::gradient::scalar_gradient(&geo, &self.mesh.cell_volumes, &fluid.pressure, &p_boundary)
+    }
+
+    /// Per-cell continuity error e_c = ∂α/∂t V + Σ α_f φ_f of the stored state, without the
+    /// ∂α/∂t part (single phase) [m³/s]; on overlap links the stored face sums are used.
+    pub fn flux_divergence(&self) -> Vec<f64> {
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let mut div = vec![0.0; self.mesh.cell_volumes.len()];
+        for f in 0..self.mesh.face_areas.len() {
+            let owner = self.mesh.face_owner[f];
+            div[owner] += fluid.flux[f];
+            if f < self.mesh.n_internal_faces {
+                div[self.mesh.face_neighbour[f]] -= fluid.flux[f];
+            }
+        }
+        div
+    }
+
+    fn check_sizes(&self) -> Result<(), SolverError> {
+        let f = self.state.fluid.as_ref().expect("fluid state");
+        let n = self.mesh.cell_volumes.len();
+        let nf = self.mesh.face_areas.len();
+        let ok = f.velocity.len() == n
+            && f.velocity_old.len() == n
+            && f.pressure.len() == n
+            && f.alpha.len() == n
+            && f.alpha_old.len() == n
+            && f.alpha_old_old.len() == n
+            && f.flux.len() == nf
+            && f.boundary_pressure.len() == nf - self.mesh.n_internal_faces;
+        if ok {
+            Ok(())
+        } else {
+            Err(SolverError::Unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")))
+        }
+    }
+
+    /// The links and boundary faces of the current mesh position.
+    pub fn geometry(&self) -> Geometry {
+        let links = match self.interface_axis {
+            Some((axis, origin)) => interface_links(&self.mesh, axis, origin, self.rotor.as_ref()),
+            None => Vec::new(),
+        };
+        Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), links)
+    }
+
+    fn time_coefficients(&self, dt: f64) -> [f64; 3] {
+        if self.state.step == 0 || self.numerics.time_scheme == TimeScheme::Euler || self.state.dt <= 0.0 {
+            [1.0, -1.0, 0.0]
+        } else {
+            let r = dt / self.state.dt;
+            [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
+        }
+    }
+
+    fn advance(&mut self) -> Result<StepReport, SolverError> {
+        let dt = self.dt;
+        let time_coefficients = self.time_coefficients(dt);
+        if let Some(r) = &self.rotor {
+            let angle = self.state.rotor_angle + r.omega * dt;
+            set_zone_angle(&mut self.mesh, r.zone, angle)?;
+            self.state.rotor_angle = angle;
+        }
+        let geo = self.geometry();
+        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let n = geo.n_cells();
+        let volumes = self.mesh.cell_volumes.clone();
+        let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
+        let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
+        let boundary_velocity: Vec<Option<Vec3>> =
+            geo.boundary.iter().map(|face| self.conditions.fixed_velocity(face, self.rotor.as_ref())).collect();
+        let prescribed: Vec<Option<f64>> =
+            geo.boundary.iter().map(|face| self.conditions.prescribed_flux(face, self.rotor.as_ref())).collect();
+        let inputs = StepInputs {
+            geo: &geo,
+            conditions: &self.conditions,
+            rotor: self.rotor.as_ref(),
+            numerics: &self.numerics,
+            volumes: &volumes,
+            nu: self.nu,
+            dt,
+            time_coefficients,
+            alpha: &fluid.alpha,
+            alpha_old: &fluid.alpha_old,
+            alpha_old_old: &fluid.alpha_old_old,
+            u_old: &u_old,
+            u_old_old: &u_old_old,
+            body_force: self.body_force,
+            boundary_velocity: &boundary_velocity,
+        };
+
+        // starting values (step 3 of the algorithm)
+        let mut u = u_old.clone();
+        let mut p = fluid.pressure.clone();
+        let mut p_boundary: Vec<f64> = geo.boundary.iter().map(|face| fluid.boundary_pressure[face.index]).collect();
+        // faces that moved (rotor zone) or were rebuilt (overlaps) start from the interpolated
+        // velocity on the new geometry; mixing old-geometry fluxes with new faces would open the
+        // cells of the first outer iteration
+        let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
+        let mut link_flux: Vec<f64> = geo
+            .links
+            .iter()
+            .map(|link| match link.origin {
+                LinkOrigin::Face(f) if !moved[link.owner] => fluid.flux[f],
+                _ => link.interpolate_vec(u[link.owner], u[link.neighbour]).dot(&link.area),
+            })
+            .collect();
+        let mut boundary_flux: Vec<f64> =
+            geo.boundary.iter().enumerate().map(|(b, face)| prescribed[b].unwrap_or(fluid.flux[face.face])).collect();
+
+        let mut outer_iterations = 0;
+        let mut last_residual = f64::NAN;
+        for _outer in 0..self.numerics.max_outer_iterations {
+            outer_iterations += 1;
+            let boundary_u = momentum::boundary_velocities(&inputs, &u);
+            let grad_u = vector_gradient(&geo, &volumes, &u, &boundary_u);
+            let system = momentum::assemble(&inputs, &link_flux, &boundary_flux, &u, &grad_u);
+
+            // momentum predictor: M u = b − V∇P*
+            let grad_p = super::gradient::scalar_gradient(&geo, &volumes, &p, &p_boundary);
+            let mut rhs = Vec::new();
+            let mut solved = Vec::new();
+            for j in 0..3 {
+                if geo.solved_components[j] {
+                    rhs.push((0..n).map(|c| system.source[c][j] - volumes[c] * grad_p[c][j]).collect::<Vec<f64>>());
+                    solved.push(j);
+                }
+            }
+            if std::env::var("SPILLAGE_DEBUG").is_ok() {
+                let ux: Vec<f64> = u.iter().map(|v| v[0]).collect();
+                let mu = system.matrix.multiply(&ux);
+                let worst = (0..n).map(|c| (mu[c] - rhs[0][c]).abs()).fold(0.0, f64::max);
+                let conv: f64 = (0..n).map(|c| { let mut s = 0.0; for &l in &geo.cell_links[c] { let k = &geo.links[l]; let f = link_flux[l] - k.mesh_flux; s += if k.owner == c { f } else { -f }; } for &b in &geo.cell_boundary[c] { s += boundary_flux[b] - geo.boundary[b].mesh_flux; } s.abs() }).fold(0.0, f64::max);
+                eprintln!("|M u* - rhs| max {worst:e}, max |sum F_rel| {conv:e}");
+            }
+            let solution = system.matrix.solve(&rhs, "momentum predictor")?;
+            for (k, j) in solved.iter().enumerate() {
+                for c in 0..n {
+                    u[c][*j] = solution[k][c];
+                }
+            }
+
+            let mut first_residual = f64::NAN;
+            for corrector in 0..self.numerics.piso_correctors {
+                let residual = pressure::correct(
+                    &inputs,
+                    &system,
+                    &prescribed,
+                    CorrectorFields { u: &mut u, p: &mut p, p_boundary: &mut p_boundary, link_flux: &mut link_flux, boundary_flux: &mut boundary_flux },
+                )?;
+                if corrector == 0 {
+                    first_residual = residual;
+                }
+            }
+            last_residual = first_residual;
+            if !first_residual.is_finite() || u.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
+                return Err(SolverError::Diverged { step: self.state.step + 1, time: self.state.time + dt, what: "non-finite velocity or pressure".into() });
+            }
+            if first_residual < self.numerics.p_initial_residual {
+                break;
+            }
+        }
+
+        // diagnostics before the time levels shift (∂α/∂t uses this step's levels)
+        let errors = diagnostics::continuity_errors(&inputs, &link_flux, &boundary_flux);
+        let local = dt * errors.iter().map(|e| e.abs()).sum::<f64>();
+        let global = dt * errors.iter().sum::<f64>();
+        let courant = diagnostics::max_courant(&geo, &volumes, dt, &link_flux, &boundary_flux);
+        let imbalance = diagnostics::interface_imbalance(&geo, &link_flux, self.mesh.face_areas.len());
+        let alpha = fluid.alpha.clone();
+        let kinetic = diagnostics::kinetic_energy(&u, &alpha, &volumes);
+
+        // step 5: shift the time levels
+        let n_faces = self.mesh.face_areas.len();
+        let fluid = self.state.fluid.as_mut().expect("fluid state");
+        fluid.velocity_old = fluid.velocity.clone();
+        fluid.velocity = u.iter().map(|v| [v.x, v.y, v.z]).collect();
+        fluid.pressure = p;
+        let mut flux = vec![0.0; n_faces];
+        for (l, link) in geo.links.iter().enumerate() {
+            match link.origin {
+                LinkOrigin::Face(f) => flux[f] = link_flux[l],
+                LinkOrigin::Interface { rotor_face, stator_face } => {
+                    flux[rotor_face] += link_flux[l];
+                    flux[stator_face] -= link_flux[l];
+                }
+            }
+        }
+        for (b, face) in geo.boundary.iter().enumerate() {
+            flux[face.face] = boundary_flux[b];
+            fluid.boundary_pressure[face.index] = p_boundary[b];
+        }
+        fluid.flux = flux;
+        fluid.alpha_old_old = fluid.alpha_old.clone();
+        fluid.alpha_old = fluid.alpha.clone();
+        fluid.cumulative_continuity_error += global;
+        let cumulative = fluid.cumulative_continuity_error;
+        self.state.time += dt;
+        self.state.step += 1;
+        self.state.dt = dt;
+
+        Ok(StepReport {
+            values: vec![
+                ("dt", dt),
+                ("courant_max", courant),
+                ("continuity_local", local),
+                ("continuity_global", global),
+                ("continuity_cumulative", cumulative),
+                ("kinetic_energy", kinetic),
+                ("outer_iterations", outer_iterations as f64),
+                ("p_initial_residual", last_residual),
+                ("interface_imbalance", imbalance),
+                ("rotor_angle", self.state.rotor_angle),
+            ],
+        })
+    }
+}
+
+/// Turns the rotor zone to `angle` (from its reference geometry, so no drift accumulates).
+fn set_zone_angle(mesh: &mut Mesh, zone: usize, angle: f64) -> Result<(), SolverError> {
+    mesh.set_zone_angle(zone, angle).map_err(|e| SolverError::Unsupported(format!("cannot rotate the rotor zone: {e}")))
+}
+
+impl Solver for ReferenceFluid {
+    fn name(&self) -> &'static str {
+        "reference"
+    }
+
+    fn step(&mut self) -> Result<StepReport, SolverError> {
+        self.advance()
+    }
+
+    fn state(&self) -> &State {
+        &self.state
+    }
+}
