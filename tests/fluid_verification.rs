@@ -108,17 +108,23 @@ fn taylor_green() {
 
 
 /// `cargo test --test fluid_verification full_ladder -- --ignored --nocapture` prints the
-/// `--full` rows of every case named in SPILLAGE_FULL (comma-separated file names).
+/// `--full` rows (coarse only if SPILLAGE_COARSE is set) of every case named in SPILLAGE_FULL
+/// (comma-separated file names).
 #[test]
 #[ignore]
 fn full_ladder() {
     let names = std::env::var("SPILLAGE_FULL").unwrap_or_default();
     for name in names.split(',').filter(|s| !s.is_empty()) {
         eprintln!("== {name}");
-        match run_case(&case(name), true) {
+        match run_case(&case(name), std::env::var("SPILLAGE_COARSE").is_err()) {
             Ok(rows) => print_rows(&rows),
             Err(e) => eprintln!("{name}: {e:#}"),
         }
     }
 }
 
+
+#[test]
+fn couette_sliding_off_centre() {
+    check("couette_sliding_off_centre.toml");
+}
