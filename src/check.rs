@@ -27,26 +27,29 @@ pub fn derive(case: &Case) -> Derived {
     let Some(mesh) = &case.mesh else { return d };
     d.cells = mesh.cell_count();
     let (min_size, extent, r_max) = match mesh {
-        MeshSection::Box { min, max, cells, grading, .. } => {
+        MeshSection::Box { min, max, cells, grading, two_d, .. } => {
             let mut smallest = f64::INFINITY;
             let mut extent = f64::INFINITY;
-            for k in 0..3 {
+            // The single layer of a 2-D mesh limits neither the step nor the Reynolds number.
+            for k in 0..if *two_d { 2 } else { 3 } {
                 let len = max[k] - min[k];
                 extent = extent.min(len);
                 smallest = smallest.min(smallest_graded_cell(len, cells[k], grading[k]));
             }
             (smallest, extent, None)
         }
-        MeshSection::Annulus { r_inner, r_outer, z_min, z_max, n_r, n_theta, n_z, radial_grading, .. } => {
+        MeshSection::Annulus { r_inner, r_outer, z_min, z_max, n_r, n_theta, n_z, radial_grading, two_d } => {
             let dr = smallest_graded_cell(r_outer - r_inner, *n_r, *radial_grading);
             let arc = r_inner * std::f64::consts::TAU / *n_theta as f64;
-            ((dr.min(arc)).min((z_max - z_min) / *n_z as f64), r_outer - r_inner, Some(*r_outer))
+            let dz = if *two_d { f64::INFINITY } else { (z_max - z_min) / *n_z as f64 };
+            (dr.min(arc).min(dz), r_outer - r_inner, Some(*r_outer))
         }
-        MeshSection::RotorStator { r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, .. } => {
+        MeshSection::RotorStator { r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, two_d } => {
             let dr = smallest_graded_cell(r_interface - r_inner, *n_r_rotor, *radial_grading)
                 .min(smallest_graded_cell(r_outer - r_interface, *n_r_stator, *radial_grading));
             let arc = (r_inner * std::f64::consts::TAU / *n_theta_rotor as f64).min(r_interface * std::f64::consts::TAU / *n_theta_stator as f64);
-            (dr.min(arc).min((z_max - z_min) / *n_z as f64), r_outer - r_inner, Some(*r_interface))
+            let dz = if *two_d { f64::INFINITY } else { (z_max - z_min) / *n_z as f64 };
+            (dr.min(arc).min(dz), r_outer - r_inner, Some(*r_interface))
         }
     };
     d.min_cell_size = Some(min_size);

@@ -331,4 +331,8 @@ impl Solver for ReferenceFluid {
     fn state(&self) -> &State {
         &self.state
     }
+
+    fn mesh(&self) -> Option<&Mesh> {
+        Some(&self.mesh)
+    }
 }
