@@ -104,7 +104,7 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
         println!("velocity     {u:.4e} m/s (largest imposed)");
     }
     if let Some(co) = d.courant_estimate {
-        let note = if co > 1.0 { "  (above 1: expect trouble; lower time.dt)" } else { "" };
+        let note = if co > 1.0 { "  (above 1: stable with the implicit solver, but time accuracy suffers)" } else { "" };
         println!("Courant      {co:.4} (estimate from the imposed velocity){note}");
     }
     if let Some(re) = d.reynolds {
