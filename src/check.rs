@@ -116,12 +116,49 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
         (None, _, _) => println!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN)),
         _ => {}
     }
-    for line in crate::run::derived_particle_lines(&case) {
+    for line in particle_lines(&case) {
         println!("{line}");
     }
-    println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
+    if case.mesh.is_some() {
+        println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
+    }
     println!("ok: the case is valid");
     Ok(ExitCode::SUCCESS)
+}
+
+/// DEM sub-step and Stokes numbers, from the smallest and largest particles the case makes.
+fn particle_lines(case: &Case) -> Vec<String> {
+    use spillage_model::closure::{collision_time, restitution};
+    use spillage_model::particles::settings::GroupSection;
+    let Some(p) = &case.particles else { return Vec::new() };
+    let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
+    diameters.extend(p.groups.iter().map(|g| match g {
+        GroupSection::List { diameter, .. } | GroupSection::Lattice { diameter, .. } | GroupSection::Random { diameter, .. } => (diameter.smallest(), diameter.largest()),
+    }));
+    let (Some(d_min), Some(d_max)) = (diameters.iter().map(|d| d.0).reduce(f64::min), diameters.iter().map(|d| d.1).reduce(f64::max)) else {
+        return vec!["particles    none placed or fed".into()];
+    };
+    let mut lines = vec![format!("particles    diameters {d_min:.4e} … {d_max:.4e} m")];
+    let speed = p.collision_speed;
+    // Stiffest material against itself, sphere–sphere: E* = E_c / (2(1 − ν²)) (spec §7.2).
+    let stiffest = p.materials.iter().map(|m| (m.density, m.contact_youngs_modulus() / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio)))).fold((0.0, 0.0), |a: (f64, f64), b| (a.0.max(b.0), a.1.max(b.1)));
+    if stiffest.1 > 0.0 {
+        let t_col = collision_time::collision_time(stiffest.0, stiffest.1, 0.25 * d_min, speed);
+        let dt_sub = p.substep.unwrap_or(t_col / p.steps_per_collision);
+        lines.push(format!("collision    t_col ≈ {t_col:.3e} s at {speed} m/s (smallest pair, spec §7.6)"));
+        if let Some(dt) = case.time.dt {
+            lines.push(format!("DEM step     {dt_sub:.3e} s: {} sub-steps per step of {dt:e} s", collision_time::substeps(dt, dt_sub, 1.0)));
+        }
+    }
+    let fluid = case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity)).or(p.ambient.as_ref().map(|a| (a.density, a.kinematic_viscosity)));
+    if let Some((rho_f, nu)) = fluid {
+        for m in &p.materials {
+            let lo = restitution::stokes_number(m.density, rho_f, speed, d_min, nu);
+            let hi = restitution::stokes_number(m.density, rho_f, speed, d_max, nu);
+            lines.push(format!("Stokes       {}: St_AM {lo:.3e} … {hi:.3e} at {speed} m/s (wet e/e_dry {:.3} … {:.3}, spec §7.5)", m.name, restitution::wet_restitution(1.0, lo), restitution::wet_restitution(1.0, hi)));
+        }
+    }
+    lines
 }
 
 #[cfg(test)]

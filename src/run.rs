@@ -18,6 +18,7 @@ use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
 
 use crate::frames::Frames;
+
 use crate::SolverChoice;
 
 pub struct RunOptions {
@@ -28,11 +29,6 @@ pub struct RunOptions {
     pub restart: Option<PathBuf>,
 }
 
-/// Lines about particles for `spillage check` (DEM step, Stokes numbers).
-pub fn derived_particle_lines(case: &Case) -> Vec<String> {
-    let _ = case;
-    Vec::new()
-}
 
 /// Builds the solver a case needs, from the initial state or a restart state.
 fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {

@@ -147,6 +147,12 @@ pub enum Diameter {
 }
 
 impl Diameter {
+    pub fn smallest(&self) -> f64 {
+        match self {
+            Diameter::Fixed(d) => *d,
+            Diameter::Uniform { min, .. } => *min,
+        }
+    }
     pub fn largest(&self) -> f64 {
         match self {
             Diameter::Fixed(d) => *d,
