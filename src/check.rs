@@ -119,6 +119,9 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
     for line in particle_lines(&case) {
         println!("{line}");
     }
+    if let Some(wear) = &case.wear {
+        println!("wear         {:?} law: impacts are logged, but wall recession is not modelled yet (the [wear] section is validated only)", wear.law);
+    }
     if case.mesh.is_some() {
         println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
     }

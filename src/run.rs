@@ -76,6 +76,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     };
     let restart_time = restart.as_ref().map(|s| s.time);
     let mut solver = build_solver(&case, opts.solver, restart)?;
+    if case.wear.is_some() {
+        eprintln!("note: wall wear is not modelled yet; [wear] is validated but has no effect on this run");
+    }
 
     let mut summary = Summary::new(&case.case.name, solver.name());
     summary.set_detail("case_file", case.path.display().to_string());

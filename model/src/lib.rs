@@ -15,3 +15,4 @@ pub mod solver;
 pub mod state;
 pub mod state_diff;
 pub mod walls;
+pub mod wear;
