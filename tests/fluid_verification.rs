@@ -97,13 +97,12 @@ fn poiseuille_inlet_outlet() {
     check("poiseuille_inlet_outlet.toml");
 }
 
-/// Open: the error stalls under refinement (velocity rms 3.1e-3, 3.7e-4, 3.5e-4 at 16, 32, 64
-/// cells with Δt ∝ h); suspected cause: no Rhie–Chow time-derivative correction (ddtCorr), so
-/// the pressure smoothing vanishes as Δt shrinks. Ignored until fixed; `spillage verify` shows it.
+/// Velocity rms order (space and time refined together, Δt ∝ h) and outer-loop convergence are
+/// asserted. Open: the KE-decay order (1.4 on 16→32): without a Rhie–Chow ddtCorr the face flux
+/// carries an O(Δt·h²) term of opposite sign to the spatial KE error (see the case file).
 #[test]
-#[ignore]
 fn taylor_green() {
-    check("taylor_green.toml");
+    check_with_open("taylor_green.toml", &["observed order KE decay"]);
 }
 
 

@@ -91,6 +91,9 @@ struct RunSummary {
     max_interface_imbalance: f64,
     max_continuity_local: f64,
     steps: u64,
+    /// Steps that used all `max_outer_iterations` with the initial pressure residual still
+    /// above `p_initial_residual` (their result is not the solution of the discrete equations).
+    unconverged_steps: u64,
 }
 
 /// Runs the reference fluid solver to `case.time.end_time` (or `steps`).
@@ -103,9 +106,15 @@ fn run(case: &Case) -> Result<(ReferenceFluid, RunSummary)> {
         (None, Some(t)) => (t / dt - 1e-9).ceil() as u64,
         (None, None) => bail!("the case has neither time.steps nor time.end_time"),
     };
-    let mut summary = RunSummary { max_interface_imbalance: 0.0, max_continuity_local: 0.0, steps };
+    let mut summary = RunSummary { max_interface_imbalance: 0.0, max_continuity_local: 0.0, steps, unconverged_steps: 0 };
     for _ in 0..steps {
         let report = solver.step().with_context(|| format!("case {}", case.case.name))?;
+        let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
+            if outer as usize >= case.numerics.max_outer_iterations && residual >= case.numerics.p_initial_residual {
+                summary.unconverged_steps += 1;
+            }
+        }
         for (name, value) in report.values {
             match name {
                 "interface_imbalance" => summary.max_interface_imbalance = summary.max_interface_imbalance.max(value),
@@ -491,7 +500,7 @@ fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let mesh = build_mesh(&c)?;
         let u0: Vec<Vec3> = mesh.cell_centres.iter().map(|x| Vec3::from(fluid.initial.velocity_at([x.x, x.y, x.z]))).collect();
         let ke0: f64 = u0.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * u.norm_squared() * v).sum();
-        let (solver, _) = run(&c)?;
+        let (solver, summary) = run(&c)?;
         let t = solver.state().time;
         let mesh = solver.mesh();
         let f = solver.state().fluid.as_ref().expect("fluid state");
@@ -506,6 +515,8 @@ fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let u_rms = (sum2 / f.velocity.len() as f64).sqrt() / speed;
         rows.push(CheckRow::at_most(name, format!("|KE/KE0 − exp(−4νt/L²)| {n}x{n}"), "reference", ke_error, f64::INFINITY));
         rows.push(CheckRow::at_most(name, format!("rms |u − u_exact|/U {n}x{n}"), "reference", u_rms, f64::INFINITY));
+        // an unconverged outer loop leaves an error that does not shrink with h or Δt
+        rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n}x{n}"), "reference", summary.unconverged_steps as f64, 0.0));
         errors.push((n as f64, ke_error, u_rms));
     }
     let min_order = param_f64(case, "min_order")?;
