@@ -11,7 +11,7 @@
 use anyhow::{anyhow, bail, Context, Result};
 use spillage_model::case::{Case, MeshSection};
 use spillage_model::fluid::settings::{BoundaryCondition, InitialVelocity};
-use spillage_model::mesh::{AnnulusSpec, BoxSpec, Mesh, PatchKind, RotorStatorSpec, Vec3};
+use spillage_model::mesh::{Mesh, Vec3};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_reference::fluid::ReferenceFluid;
@@ -37,53 +37,7 @@ pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> 
 /// Builds the mesh of `case.mesh`, with the z faces of a 2-D mesh marked empty.
 pub fn build_mesh(case: &Case) -> Result<Mesh> {
     let section = case.mesh.as_ref().ok_or_else(|| anyhow!("the case has no [mesh]"))?;
-    let (mut mesh, two_d) = match section {
-        MeshSection::Box { min, max, cells, grading, periodic, two_d } => {
-            let mut p = [false; 3];
-            for (d, axis) in ["x", "y", "z"].iter().enumerate() {
-                p[d] = periodic.iter().any(|s| s == axis);
-            }
-            let spec = BoxSpec { min: Vec3::from(*min), max: Vec3::from(*max), cells: *cells, grading: *grading, periodic: p };
-            (Mesh::cartesian_box(&spec)?, *two_d)
-        }
-        MeshSection::Annulus { r_inner, r_outer, z_min, z_max, n_r, n_theta, n_z, radial_grading, two_d } => {
-            let spec = AnnulusSpec {
-                r_inner: *r_inner,
-                r_outer: *r_outer,
-                z_min: *z_min,
-                z_max: *z_max,
-                n_r: *n_r,
-                n_theta: *n_theta,
-                n_z: *n_z,
-                radial_grading: *radial_grading,
-            };
-            (Mesh::annulus(&spec)?, *two_d)
-        }
-        MeshSection::RotorStator {
-            r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, two_d,
-        } => {
-            let spec = RotorStatorSpec {
-                r_inner: *r_inner,
-                r_interface: *r_interface,
-                r_outer: *r_outer,
-                z_min: *z_min,
-                z_max: *z_max,
-                n_r_rotor: *n_r_rotor,
-                n_r_stator: *n_r_stator,
-                n_theta_rotor: *n_theta_rotor,
-                n_theta_stator: *n_theta_stator,
-                n_z: *n_z,
-                radial_grading_rotor: *radial_grading,
-                radial_grading_stator: *radial_grading,
-            };
-            (Mesh::rotor_stator(&spec)?, *two_d)
-        }
-    };
-    if two_d {
-        mesh.set_patch_kind("z_min", PatchKind::Empty)?;
-        mesh.set_patch_kind("z_max", PatchKind::Empty)?;
-    }
-    Ok(mesh)
+    Ok(spillage_model::mesh::build(section)?)
 }
 
 /// What a run reports besides its final state.
