@@ -2,6 +2,7 @@
 
 mod analytic_cmd;
 mod check;
+mod frames;
 mod run;
 mod verify_cmd;
 

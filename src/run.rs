@@ -1,8 +1,8 @@
 //! `spillage run`: the time loop around one solver, with progress, outputs and checkpoints.
 //!
-//! Nothing is lost on failure: the series is flushed every step, and when a step fails the
-//! fields of the last good state, a checkpoint and a summary saying what went wrong are still
-//! written before the error is reported.
+//! Nothing is lost on failure: the series is flushed every step, frames and checkpoints already
+//! written stay valid (all are written atomically), and when a step fails a summary saying what
+//! went wrong is still written before the error is reported.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -11,8 +11,13 @@ use std::time::Instant;
 
 use anyhow::Context;
 use spillage_model::case::Case;
-use spillage_model::solver::{Solver, SolverError};
+use spillage_model::output::plot::{write_png, Plot, Series};
+use spillage_model::output::series::{read_series, SeriesWriter};
+use spillage_model::output::summary::Summary;
+use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
+
+use crate::frames::Frames;
 
 use crate::SolverChoice;
 
@@ -24,15 +29,23 @@ pub struct RunOptions {
     pub restart: Option<PathBuf>,
 }
 
-/// Lines about particles for `spillage check` (DEM step, Stokes numbers).
-pub fn derived_particle_lines(case: &Case) -> Vec<String> {
-    let _ = case;
-    Vec::new()
-}
 
-/// Builds the solver a case needs.
+/// Builds the solver a case needs, from the initial state or a restart state.
 fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
-    let _ = (case, choice, state);
+    let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
+    if case.fluid.is_none() && case.particles.is_some() {
+        if choice == SolverChoice::Fast {
+            eprintln!("note: the fast DEM does not exist yet; running the reference DEM");
+        }
+        return Ok(Box::new(spillage_reference::dem::ReferenceDem::new(case, state.unwrap_or_default()).map_err(located)?));
+    }
+    if let (Some(section), None) = (&case.mesh, &case.particles) {
+        let mesh = spillage_model::mesh::build(section).map_err(|e| anyhow::anyhow!("{}: [mesh]: {e}", case.path.display()))?;
+        if choice == SolverChoice::Fast {
+            eprintln!("note: the fast fluid solver does not exist yet; running the reference solver");
+        }
+        return Ok(Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, state.unwrap_or_default()).map_err(located)?));
+    }
     anyhow::bail!(
         "{}: no solver for this case yet (fluid: {}, particles: {})",
         case.path.display(),
@@ -41,46 +54,224 @@ fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyh
     )
 }
 
+fn solver_name(choice: SolverChoice) -> &'static str {
+    match choice {
+        SolverChoice::Fast => "fast",
+        SolverChoice::Reference => "reference",
+    }
+}
+
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let case = Case::load(&opts.case)?;
-    if let Some(n) = opts.threads {
-        if n == 0 {
-            anyhow::bail!("--threads 0: expected a whole number ≥ 1");
-        }
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("cannot set up the thread pool")?;
+    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if threads == 0 {
+        anyhow::bail!("--threads 0: expected a whole number ≥ 1");
     }
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set up the thread pool")?;
     let out = opts.out.clone().unwrap_or_else(|| Path::new("results").join(&case.case.name));
-    std::fs::create_dir_all(&out).with_context(|| format!("cannot create the results folder {}", out.display()))?;
+    std::fs::create_dir_all(out.join("checkpoints")).with_context(|| format!("cannot create the results folder {}", out.display()))?;
     let restart = match &opts.restart {
         Some(path) => Some(spillage_model::checkpoint::read(path, Some(&case.case.name))?),
         None => None,
     };
+    let restart_time = restart.as_ref().map(|s| s.time);
     let mut solver = build_solver(&case, opts.solver, restart)?;
+    if case.wear.is_some() {
+        eprintln!("note: wall wear is not modelled yet; [wear] is validated but has no effect on this run");
+    }
+
+    let mut summary = Summary::new(&case.case.name, solver.name());
+    summary.set_detail("case_file", case.path.display().to_string());
+    summary.set_detail("threads", threads as u64);
+    summary.set_detail("derived", serde_json::to_value(crate::check::derive(&case))?);
+    if let Some(path) = &opts.restart {
+        summary.set_detail("restarted_from", path.display().to_string());
+    }
+
     let started = Instant::now();
-    let progress = progress_bar(&case);
-    let result = time_loop(&case, solver.as_mut(), &progress);
+    let progress = progress_bar(&case, solver.state());
+    let mut run = Running { case: &case, out: &out, frames: Frames::new(&out, restart_time)?, series: None, restart_time, steps: 0, step_seconds: 0.0 };
+    let result = run.time_loop(solver.as_mut(), &progress);
     progress.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
-    result.map(|_| ExitCode::SUCCESS).map_err(|e| anyhow::anyhow!("{e} (after {wall:.1} s; results so far are in {})", out.display()))
+
+    let state = solver.state();
+    summary.set_timing("wall", wall);
+    summary.set_timing("steps", run.step_seconds);
+    if run.steps > 0 {
+        summary.set_timing("per_step", run.step_seconds / run.steps as f64);
+        let cells = solver.mesh().map_or(0, |m| m.n_cells());
+        if cells > 0 {
+            summary.set_result("microseconds_per_cell_step", 1e6 * run.step_seconds / (run.steps as f64 * cells as f64));
+        }
+    }
+    summary.set_result("final_time", state.time);
+    summary.set_result("final_step", state.step as f64);
+    if let Some(last) = &run.last_report() {
+        for (name, value) in &last.values {
+            summary.set_result(name, *value);
+        }
+    }
+    summary.set_detail("status", match &result {
+        Ok(()) => "completed".to_string(),
+        Err(e) => format!("failed: {e}"),
+    });
+    summary.set_detail("solver", solver_name(opts.solver));
+    summary.write(&out.join("summary.json"))?;
+    if case.output.plots {
+        draw_plots(&out)?;
+    }
+    match result {
+        Ok(()) => {
+            eprintln!(
+                "{}: {} steps to t = {:.6e} s in {wall:.1} s; results in {}",
+                case.case.name,
+                run.steps,
+                state.time,
+                out.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => Err(anyhow::anyhow!("{e} (after {wall:.1} s; results up to the failure are in {})", out.display())),
+    }
 }
 
-fn time_loop(case: &Case, solver: &mut dyn Solver, progress: &indicatif::ProgressBar) -> Result<(), SolverError> {
-    let _ = case;
-    let report = solver.step()?;
-    progress.inc(1);
-    let _ = report;
-    Ok(())
+/// Columns the run loop writes itself from the state; a solver reporting them too is not
+/// written twice.
+const SERIES_CLOCK: [&str; 3] = ["step", "time", "dt"];
+
+struct Running<'a> {
+    case: &'a Case,
+    out: &'a Path,
+    frames: Frames,
+    series: Option<(SeriesWriter, StepReport)>,
+    restart_time: Option<f64>,
+    steps: u64,
+    step_seconds: f64,
 }
 
-fn progress_bar(case: &Case) -> indicatif::ProgressBar {
-    let total = case.time.steps.unwrap_or(0);
-    let bar = indicatif::ProgressBar::new(total);
+impl Running<'_> {
+    fn last_report(&self) -> Option<StepReport> {
+        self.series.as_ref().map(|(_, r)| r.clone())
+    }
+
+    fn finished(&self, state: &State) -> bool {
+        let t = &self.case.time;
+        match (t.steps, t.end_time) {
+            (Some(n), _) => state.step >= n,
+            // Half a step of slack so round-off in the accumulated time never adds a step.
+            (None, Some(end)) => state.time >= end - 0.5 * t.dt.unwrap_or(state.dt).max(0.0),
+            (None, None) => true,
+        }
+    }
+
+    fn time_loop(&mut self, solver: &mut dyn Solver, progress: &indicatif::ProgressBar) -> anyhow::Result<()> {
+        let output = &self.case.output;
+        let write_every = self.case.time.write_every;
+        if self.restart_time.is_none() && output.paraview {
+            self.frames.write(solver.mesh(), solver.state())?;
+        }
+        while !self.finished(solver.state()) {
+            let t0 = Instant::now();
+            let report = solver.step()?;
+            self.step_seconds += t0.elapsed().as_secs_f64();
+            self.steps += 1;
+            let state = solver.state();
+            if let Some((name, value)) = report.values.iter().find(|(_, v)| !v.is_finite()) {
+                return Err(SolverError::Diverged { step: state.step, time: state.time, what: format!("{name} = {value}") }.into());
+            }
+            self.record(state, &report)?;
+            if output.paraview && write_every > 0 && state.step % write_every == 0 {
+                self.frames.write(solver.mesh(), state)?;
+            }
+            if output.checkpoint_every > 0 && state.step % output.checkpoint_every == 0 {
+                self.checkpoint(state)?;
+            }
+            progress.set_position(progress_position(self.case, state));
+            progress.set_message(live_message(state, &report));
+        }
+        let state = solver.state();
+        let last_written = write_every > 0 && state.step % write_every == 0;
+        if output.paraview && !last_written && self.steps > 0 {
+            self.frames.write(solver.mesh(), state)?;
+        }
+        self.checkpoint(state)?;
+        Ok(())
+    }
+
+    fn record(&mut self, state: &State, report: &StepReport) -> anyhow::Result<()> {
+        if self.series.is_none() {
+            let mut columns = vec!["step", "time", "dt"];
+            columns.extend(report.values.iter().map(|(n, _)| *n).filter(|n| !SERIES_CLOCK.contains(n)));
+            let path = self.out.join("series.csv");
+            let writer = match self.restart_time {
+                Some(t) if path.exists() => SeriesWriter::resume(&path, &columns, Some(t))?,
+                _ => SeriesWriter::create(&path, &columns)?,
+            };
+            self.series = Some((writer, report.clone()));
+        }
+        let (writer, last) = self.series.as_mut().expect("just created");
+        let mut row = vec![state.step as f64, state.time, state.dt];
+        row.extend(report.values.iter().filter(|(n, _)| !SERIES_CLOCK.contains(n)).map(|(_, v)| *v));
+        writer.write_row(&row)?;
+        *last = report.clone();
+        Ok(())
+    }
+
+    fn checkpoint(&self, state: &State) -> anyhow::Result<()> {
+        let path = self.out.join("checkpoints").join(format!("step_{:08}.ckpt", state.step));
+        spillage_model::checkpoint::write(&path, &self.case.case.name, state)?;
+        Ok(())
+    }
+}
+
+/// Progress in thousandths of the run (steps or simulated time).
+fn progress_position(case: &Case, state: &State) -> u64 {
+    let fraction = match (case.time.steps, case.time.end_time) {
+        (Some(n), _) => state.step as f64 / n as f64,
+        (None, Some(end)) => state.time / end,
+        _ => 1.0,
+    };
+    (fraction.clamp(0.0, 1.0) * 1000.0).round() as u64
+}
+
+fn live_message(state: &State, report: &StepReport) -> String {
+    let mut msg = format!("t = {:.4e} s, step {}", state.time, state.step);
+    for (name, value) in report.values.iter().take(3) {
+        msg.push_str(&format!(", {name} {value:.3e}"));
+    }
+    msg
+}
+
+fn progress_bar(case: &Case, state: &State) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(1000);
     if !std::io::stderr().is_terminal() {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     bar.set_style(
-        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} step {pos}/{len} ETA {eta} {msg}")
+        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta}  {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    bar.set_position(progress_position(case, state));
     bar
+}
+
+/// One PNG per series column against time, in `plots/`.
+fn draw_plots(out: &Path) -> anyhow::Result<()> {
+    let path = out.join("series.csv");
+    if !path.exists() {
+        return Ok(());
+    }
+    let table = read_series(&path)?;
+    let dir = out.join("plots");
+    std::fs::create_dir_all(&dir)?;
+    for column in table.columns.iter().filter(|c| !matches!(c.as_str(), "step" | "time" | "dt")) {
+        let Some(points) = table.pairs("time", column) else { continue };
+        if points.is_empty() {
+            continue;
+        }
+        let plot = Plot { title: column, x_label: "time [s]", y_label: column, log_x: false, log_y: false, series: vec![Series { label: column, points: &points }] };
+        write_png(&plot, &dir.join(format!("{column}.png")))?;
+    }
+    Ok(())
 }

@@ -6,6 +6,7 @@
 
 pub mod case;
 pub mod checkpoint;
+pub mod closure;
 pub mod fluid;
 pub mod mesh;
 pub mod output;
@@ -14,3 +15,4 @@ pub mod solver;
 pub mod state;
 pub mod state_diff;
 pub mod walls;
+pub mod wear;

@@ -4,9 +4,10 @@
 //! procedure that compares the run with the exact answer lives in the module of its model
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
-use std::path::{Path, PathBuf};
-
+pub mod dem;
 pub mod fluid;
+
+use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use spillage_model::case::Case;
@@ -71,6 +72,9 @@ pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
 
 /// Each model's verification module lists its checks in `CHECKS` and runs them in `run_check`.
 fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+    if dem::CHECKS.contains(&check) {
+        return dem::run_check(case, check, full);
+    }
     if fluid::CHECKS.contains(&check) {
         return fluid::run_check(case, check, full);
     }
@@ -84,6 +88,7 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
 /// Names accepted in `[verify] check`.
 pub fn known_checks() -> Vec<&'static str> {
     let mut checks = Vec::new();
+    checks.extend_from_slice(dem::CHECKS);
     checks.extend_from_slice(fluid::CHECKS);
     checks
 }

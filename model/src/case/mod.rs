@@ -43,6 +43,8 @@ pub struct Case {
     pub particles: Option<ParticlesSection>,
     #[serde(default)]
     pub walls: Vec<WallSection>,
+    /// Erosive wear of the walls.
+    pub wear: Option<crate::wear::settings::WearSection>,
     #[serde(default)]
     pub output: OutputSection,
     pub verify: Option<VerifySection>,
@@ -151,6 +153,10 @@ impl Case {
         }
         for (i, wall) in self.walls.iter().enumerate() {
             wall.validate(i)?;
+        }
+        if let Some(wear) = &self.wear {
+            let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).collect();
+            wear.validate(&names)?;
         }
         Ok(())
     }

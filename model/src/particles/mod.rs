@@ -1,4 +1,10 @@
-//! Particle definitions shared by both solvers (owned by the DEM work; placeholders for now).
+//! Particle definitions shared by both solvers: the `[particles]` section, the particle state
+//! and the initial-state builder.
 
+pub mod initial;
+pub mod random;
 pub mod settings;
 pub mod state;
+
+pub use initial::{initial_state, place_without_overlap};
+pub use state::{ContactRecord, ImpactRecord, Partner, Particle, ParticleCounts, ParticleState};

@@ -1,16 +1,347 @@
-//! `[particles]` section.
+//! `[particles]` section: materials, sizes, initial placement, feed, DEM numerics and the
+//! still ambient fluid of particles-only cases.
 
 use serde::Deserialize;
 
-use crate::case::error::FieldError;
+use crate::case::error::{finite_vector, in_range, non_negative, positive, FieldError};
+use crate::closure::contact::SlipTest;
+use crate::closure::drag::DragLaw;
 
-/// `[particles]` (placeholder until the DEM work defines it).
+/// `[particles]`
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ParticlesSection {}
+pub struct ParticlesSection {
+    /// Materials of particles and walls, referred to by name.
+    pub materials: Vec<MaterialSection>,
+    /// Initial particles, one entry per group.
+    #[serde(default)]
+    pub groups: Vec<GroupSection>,
+    /// Continuous feeds.
+    #[serde(default)]
+    pub feed: Vec<FeedSection>,
+    /// DEM sub-steps per collision time, N_timeSteps of (T3.106); the thesis used 12–20.
+    #[serde(default = "ParticlesSection::default_steps_per_collision")]
+    pub steps_per_collision: f64,
+    /// Lowest speed used in the collision-time estimate (T3.105) [m/s], so a packing at rest
+    /// still gets a finite sub-step; the actual worst-case speed is used when larger (§7.6).
+    #[serde(default = "ParticlesSection::default_collision_speed")]
+    pub collision_speed: f64,
+    /// Fixed DEM sub-step [s] instead of the one from the collision time.
+    pub substep: Option<f64>,
+    /// Coulomb slip test (fluid-dem-model.md §7.8 step 5).
+    #[serde(default)]
+    pub slip_test: SlipTest,
+    /// Still fluid around the particles (particles-only cases); with a `[fluid]` section the
+    /// coupled solver supplies the fluid instead.
+    pub ambient: Option<AmbientFluid>,
+    /// Particles whose centre leaves this box are removed and counted as escaped.
+    pub domain: Option<BoxRegion>,
+}
 
 impl ParticlesSection {
+    fn default_steps_per_collision() -> f64 {
+        12.0
+    }
+    fn default_collision_speed() -> f64 {
+        1.0
+    }
+
+    /// Index of the material called `name`.
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+
     pub fn validate(&self) -> Result<(), FieldError> {
+        if self.materials.is_empty() {
+            return Err(FieldError::new("particles.materials", "(none)", "at least one [[particles.materials]] entry"));
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            m.validate(&format!("particles.materials.{i}"))?;
+            if self.materials[..i].iter().any(|o| o.name == m.name) {
+                return Err(FieldError::new(format!("particles.materials.{i}.name"), format!("{:?}", m.name), "a material name not used before"));
+            }
+        }
+        positive("particles.steps_per_collision", self.steps_per_collision, "sub-steps per collision")?;
+        positive("particles.collision_speed", self.collision_speed, "m/s")?;
+        if let Some(dt) = self.substep {
+            positive("particles.substep", dt, "s")?;
+        }
+        if let Some(a) = &self.ambient {
+            a.validate()?;
+        }
+        if let Some(d) = &self.domain {
+            d.validate("particles.domain")?;
+        }
+        let names: Vec<&str> = self.materials.iter().map(|m| m.name.as_str()).collect();
+        for (i, g) in self.groups.iter().enumerate() {
+            g.validate(&format!("particles.groups.{i}"), &names)?;
+        }
+        for (i, f) in self.feed.iter().enumerate() {
+            f.validate(&format!("particles.feed.{i}"), &names)?;
+        }
         Ok(())
+    }
+}
+
+fn check_material(key: &str, name: &str, names: &[&str]) -> Result<(), FieldError> {
+    if names.contains(&name) {
+        Ok(())
+    } else {
+        Err(FieldError::new(key, format!("{name:?}"), format!("one of the [[particles.materials]] names: {}", names.join(", "))))
+    }
+}
+
+/// `[[particles.materials]]`
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSection {
+    pub name: String,
+    /// Density ρ [kg/m³].
+    pub density: f64,
+    /// Young's modulus E [Pa] before softening.
+    pub youngs_modulus: f64,
+    /// Poisson ratio ν.
+    pub poisson_ratio: f64,
+    /// E is divided by this (the thesis lowered E about 6000 times, §7.6); 1 = the real material.
+    #[serde(default = "one")]
+    pub softening: f64,
+    /// Dry normal restitution ε_dry.
+    pub restitution: f64,
+    /// Coulomb friction coefficient μ_f.
+    pub friction: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl MaterialSection {
+    /// Young's modulus used in the contact law, E / softening [Pa].
+    pub fn contact_youngs_modulus(&self) -> f64 {
+        self.youngs_modulus / self.softening
+    }
+
+    fn validate(&self, key: &str) -> Result<(), FieldError> {
+        if self.name.trim().is_empty() {
+            return Err(FieldError::new(format!("{key}.name"), "\"\"", "a non-empty name"));
+        }
+        positive(&format!("{key}.density"), self.density, "kg/m³")?;
+        positive(&format!("{key}.youngs_modulus"), self.youngs_modulus, "Pa")?;
+        if !(self.poisson_ratio.is_finite() && self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
+            return Err(FieldError::new(format!("{key}.poisson_ratio"), self.poisson_ratio, "a Poisson ratio in (−1, 0.5)"));
+        }
+        if !(self.softening.is_finite() && self.softening >= 1.0) {
+            return Err(FieldError::new(format!("{key}.softening"), self.softening, "a factor ≥ 1 dividing E"));
+        }
+        in_range(&format!("{key}.restitution"), self.restitution, 0.0, 1.0, "")?;
+        non_negative(&format!("{key}.friction"), self.friction, "")
+    }
+}
+
+/// Particle diameter: a single value or a uniform distribution `{ min, max }`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum Diameter {
+    Fixed(f64),
+    Uniform { min: f64, max: f64 },
+}
+
+impl Diameter {
+    pub fn smallest(&self) -> f64 {
+        match self {
+            Diameter::Fixed(d) => *d,
+            Diameter::Uniform { min, .. } => *min,
+        }
+    }
+    pub fn largest(&self) -> f64 {
+        match self {
+            Diameter::Fixed(d) => *d,
+            Diameter::Uniform { max, .. } => *max,
+        }
+    }
+    fn validate(&self, key: &str) -> Result<(), FieldError> {
+        match self {
+            Diameter::Fixed(d) => positive(key, *d, "m"),
+            Diameter::Uniform { min, max } => {
+                positive(&format!("{key}.min"), *min, "m")?;
+                positive(&format!("{key}.max"), *max, "m")?;
+                if max < min {
+                    return Err(FieldError::new(format!("{key}.max"), max, format!("a diameter ≥ min = {min} m")));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// An axis-aligned box `{ min = [..], max = [..] }`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BoxRegion {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl BoxRegion {
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|k| p[k] >= self.min[k] && p[k] <= self.max[k])
+    }
+    fn validate(&self, key: &str) -> Result<(), FieldError> {
+        finite_vector(&format!("{key}.min"), self.min)?;
+        finite_vector(&format!("{key}.max"), self.max)?;
+        if (0..3).any(|k| self.max[k] <= self.min[k]) {
+            return Err(FieldError::new(format!("{key}.max"), format!("{:?}", self.max), format!("a corner above min = {:?} in every direction", self.min)));
+        }
+        Ok(())
+    }
+}
+
+/// `[[particles.groups]]`: initial particles, placed one of three ways.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(tag = "placement", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GroupSection {
+    /// Explicit positions (and optionally velocities and spins, one per position).
+    List {
+        material: String,
+        diameter: Diameter,
+        positions: Vec<[f64; 3]>,
+        #[serde(default)]
+        velocities: Vec<[f64; 3]>,
+        #[serde(default)]
+        spins: Vec<[f64; 3]>,
+        #[serde(default)]
+        seed: u64,
+    },
+    /// A cubic lattice of the given spacing filling a box (first site at `region.min + spacing/2`).
+    Lattice {
+        material: String,
+        diameter: Diameter,
+        region: BoxRegion,
+        spacing: f64,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        seed: u64,
+    },
+    /// `count` particles at random non-overlapping positions inside a box.
+    Random {
+        material: String,
+        diameter: Diameter,
+        region: BoxRegion,
+        count: usize,
+        #[serde(default)]
+        velocity: [f64; 3],
+        #[serde(default)]
+        seed: u64,
+    },
+}
+
+impl GroupSection {
+    pub fn material(&self) -> &str {
+        match self {
+            GroupSection::List { material, .. } | GroupSection::Lattice { material, .. } | GroupSection::Random { material, .. } => material,
+        }
+    }
+    fn validate(&self, key: &str, names: &[&str]) -> Result<(), FieldError> {
+        check_material(&format!("{key}.material"), self.material(), names)?;
+        match self {
+            GroupSection::List { diameter, positions, velocities, spins, .. } => {
+                diameter.validate(&format!("{key}.diameter"))?;
+                for (i, p) in positions.iter().enumerate() {
+                    finite_vector(&format!("{key}.positions.{i}"), *p)?;
+                }
+                for (name, list) in [("velocities", velocities), ("spins", spins)] {
+                    if !list.is_empty() && list.len() != positions.len() {
+                        return Err(FieldError::new(format!("{key}.{name}"), format!("({} entries)", list.len()), format!("none or one per position ({})", positions.len())));
+                    }
+                    for (i, v) in list.iter().enumerate() {
+                        finite_vector(&format!("{key}.{name}.{i}"), *v)?;
+                    }
+                }
+                Ok(())
+            }
+            GroupSection::Lattice { diameter, region, spacing, velocity, .. } => {
+                diameter.validate(&format!("{key}.diameter"))?;
+                region.validate(&format!("{key}.region"))?;
+                positive(&format!("{key}.spacing"), *spacing, "m")?;
+                if *spacing < diameter.largest() {
+                    return Err(FieldError::new(format!("{key}.spacing"), spacing, format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest())));
+                }
+                finite_vector(&format!("{key}.velocity"), *velocity)
+            }
+            GroupSection::Random { diameter, region, count, velocity, .. } => {
+                diameter.validate(&format!("{key}.diameter"))?;
+                region.validate(&format!("{key}.region"))?;
+                if *count == 0 {
+                    return Err(FieldError::new(format!("{key}.count"), count, "a whole number ≥ 1"));
+                }
+                finite_vector(&format!("{key}.velocity"), *velocity)
+            }
+        }
+    }
+}
+
+/// `[[particles.feed]]`: particles created at `rate` per second at random non-overlapping
+/// positions in `region`, between `start` and `end`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeedSection {
+    pub material: String,
+    pub diameter: Diameter,
+    pub region: BoxRegion,
+    /// Particles per second.
+    pub rate: f64,
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    #[serde(default)]
+    pub start: f64,
+    pub end: Option<f64>,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl FeedSection {
+    fn validate(&self, key: &str, names: &[&str]) -> Result<(), FieldError> {
+        check_material(&format!("{key}.material"), &self.material, names)?;
+        self.diameter.validate(&format!("{key}.diameter"))?;
+        self.region.validate(&format!("{key}.region"))?;
+        positive(&format!("{key}.rate"), self.rate, "particles/s")?;
+        finite_vector(&format!("{key}.velocity"), self.velocity)?;
+        non_negative(&format!("{key}.start"), self.start, "s")?;
+        if let Some(end) = self.end {
+            if !(end.is_finite() && end > self.start) {
+                return Err(FieldError::new(format!("{key}.end"), end, format!("a time after start = {} s", self.start)));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `[particles.ambient]`: a still fluid around the particles.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientFluid {
+    /// ρ_c [kg/m³].
+    pub density: f64,
+    /// ν [m²/s].
+    pub kinematic_viscosity: f64,
+    /// Use the wet restitution law (T3.103) with this fluid.
+    #[serde(default = "yes")]
+    pub wet_restitution: bool,
+    /// Apply drag, added mass and buoyancy of the still fluid to the particles (§5.7).
+    #[serde(default = "yes")]
+    pub forces: bool,
+    #[serde(default)]
+    pub drag: DragLaw,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl AmbientFluid {
+    fn validate(&self) -> Result<(), FieldError> {
+        positive("particles.ambient.density", self.density, "kg/m³")?;
+        positive("particles.ambient.kinematic_viscosity", self.kinematic_viscosity, "m²/s")
     }
 }

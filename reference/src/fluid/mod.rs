@@ -53,6 +53,12 @@
 //!       Fluxes φ = HbyA_f·S − rAU_f (∇P)_f·T − rAU_f |S|²/(d·S)(P_N − P_P) from the solved P
 //!       (exactly conservative). P ← P* + α_p (P_new − P*); boundary pressures from the
 //!       relaxed P; u = HbyA − rAU ∇P.
+//!       There is no Rhie–Chow time-derivative correction (OpenFOAM ddtCorr): HbyA_f carries the
+//!       interpolated old velocities, not the old fluxes, so φ differs from the interpolated u by
+//!       rAU_f[(∇P)_f interpolated − compact ∇P]·S ≈ (Δt/c₀)·O(h²), an error of order Δt·h²
+//!       (measured on the Taylor–Green case; see cases/verification/fluid/taylor_green.toml).
+//!       With one corrector and no under-relaxation the outer loop may not converge at
+//!       diffusion numbers νΔt/h² ≳ 0.2; use `piso_correctors = 2` or relaxation there.
 //!    e. Stop when the initial pressure residual of this outer iteration < `p_initial_residual`.
 //! 5. uᵒᵒ ← uᵒ, uᵒ ← u, Pᵒ ← P, φᵒ ← φ (overlap fluxes summed onto their rotor and stator
 //!    faces), α levels shifted, continuity errors accumulated.

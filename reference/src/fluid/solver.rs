@@ -231,13 +231,6 @@ impl ReferenceFluid {
                     solved.push(j);
                 }
             }
-            if std::env::var("SPILLAGE_DEBUG").is_ok() {
-                let ux: Vec<f64> = u.iter().map(|v| v[0]).collect();
-                let mu = system.matrix.multiply(&ux);
-                let worst = (0..n).map(|c| (mu[c] - rhs[0][c]).abs()).fold(0.0, f64::max);
-                let conv: f64 = (0..n).map(|c| { let mut s = 0.0; for &l in &geo.cell_links[c] { let k = &geo.links[l]; let f = link_flux[l] - k.mesh_flux; s += if k.owner == c { f } else { -f }; } for &b in &geo.cell_boundary[c] { s += boundary_flux[b] - geo.boundary[b].mesh_flux; } s.abs() }).fold(0.0, f64::max);
-                eprintln!("|M u* - rhs| max {worst:e}, max |sum F_rel| {conv:e}");
-            }
             let solution = system.matrix.solve(&rhs, "momentum predictor")?;
             for (k, j) in solved.iter().enumerate() {
                 for c in 0..n {
@@ -337,5 +330,9 @@ impl Solver for ReferenceFluid {
 
     fn state(&self) -> &State {
         &self.state
+    }
+
+    fn mesh(&self) -> Option<&Mesh> {
+        Some(&self.mesh)
     }
 }

@@ -1,0 +1,9 @@
+//! Closure laws shared by both solvers: contact forces, restitution, drag.
+//!
+//! Each function is a plain formula with its spec equation cited; solvers call these and never
+//! re-derive them.
+
+pub mod collision_time;
+pub mod contact;
+pub mod drag;
+pub mod restitution;

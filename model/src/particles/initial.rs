@@ -1,0 +1,119 @@
+//! Builds the initial particle state from `[particles]`.
+
+use super::random::SplitMix64;
+use super::settings::{BoxRegion, Diameter, GroupSection, ParticlesSection};
+use super::state::{Particle, ParticleCounts, ParticleState, Vec3};
+use crate::case::{Case, FieldError};
+
+/// Attempts per particle before random placement gives up.
+const PLACEMENT_ATTEMPTS: usize = 10_000;
+
+/// The particles at t = 0, ids 0, 1, 2… in group order.
+pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
+    let Some(section) = &case.particles else {
+        return Err(FieldError::new("particles", "(missing)", "a [particles] section"));
+    };
+    let mut state = ParticleState {
+        feed_debt: vec![0.0; section.feed.len()],
+        feed_random: section.feed.iter().map(|f| SplitMix64::new(f.seed)).collect(),
+        ..Default::default()
+    };
+    for (g, group) in section.groups.iter().enumerate() {
+        add_group(section, group, &format!("particles.groups.{g}"), &mut state)?;
+    }
+    state.counts = ParticleCounts { created: state.particles.len() as u64, escaped: 0 };
+    Ok(state)
+}
+
+fn draw_diameter(diameter: &Diameter, random: &mut SplitMix64) -> f64 {
+    match diameter {
+        Diameter::Fixed(d) => *d,
+        Diameter::Uniform { min, max } => random.uniform(*min, *max),
+    }
+}
+
+/// A particle at rest with the given material, diameter and position (id from the state).
+pub fn new_particle(section: &ParticlesSection, state: &mut ParticleState, material: usize, diameter: f64, position: Vec3, velocity: Vec3) -> Particle {
+    let id = state.next_id;
+    state.next_id += 1;
+    Particle {
+        id,
+        material,
+        diameter,
+        density: section.materials[material].density,
+        position,
+        velocity,
+        spin: Vec3::zeros(),
+        contact_force: Vec3::zeros(),
+        contact_torque: Vec3::zeros(),
+        contacts: 0,
+    }
+}
+
+/// A random centre in `region` for a sphere of `diameter` lying fully inside it and overlapping
+/// none of `existing`, or `None` after [`PLACEMENT_ATTEMPTS`] tries.
+pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Particle], random: &mut SplitMix64) -> Option<Vec3> {
+    let r = 0.5 * diameter;
+    if (0..3).any(|k| region.max[k] - region.min[k] < diameter) {
+        return None;
+    }
+    for _ in 0..PLACEMENT_ATTEMPTS {
+        let p = Vec3::new(
+            random.uniform(region.min[0] + r, region.max[0] - r),
+            random.uniform(region.min[1] + r, region.max[1] - r),
+            random.uniform(region.min[2] + r, region.max[2] - r),
+        );
+        if existing.iter().all(|q| (q.position - p).norm() >= r + q.radius()) {
+            return Some(p);
+        }
+    }
+    None
+}
+
+fn add_group(section: &ParticlesSection, group: &GroupSection, key: &str, state: &mut ParticleState) -> Result<(), FieldError> {
+    let material = section.material_index(group.material()).ok_or_else(|| FieldError::new(format!("{key}.material"), group.material(), "a known material"))?;
+    match group {
+        GroupSection::List { diameter, positions, velocities, spins, seed, .. } => {
+            let mut random = SplitMix64::new(*seed);
+            for (i, p) in positions.iter().enumerate() {
+                let d = draw_diameter(diameter, &mut random);
+                let v = velocities.get(i).map(|v| Vec3::from(*v)).unwrap_or_else(Vec3::zeros);
+                let mut particle = new_particle(section, state, material, d, Vec3::from(*p), v);
+                if let Some(w) = spins.get(i) {
+                    particle.spin = Vec3::from(*w);
+                }
+                state.particles.push(particle);
+            }
+        }
+        GroupSection::Lattice { diameter, region, spacing, velocity, seed, .. } => {
+            let mut random = SplitMix64::new(*seed);
+            let count = |k: usize| ((region.max[k] - region.min[k]) / spacing + 1e-9).floor() as usize;
+            for iz in 0..count(2) {
+                for iy in 0..count(1) {
+                    for ix in 0..count(0) {
+                        let p = Vec3::new(
+                            region.min[0] + (ix as f64 + 0.5) * spacing,
+                            region.min[1] + (iy as f64 + 0.5) * spacing,
+                            region.min[2] + (iz as f64 + 0.5) * spacing,
+                        );
+                        let d = draw_diameter(diameter, &mut random);
+                        let particle = new_particle(section, state, material, d, p, Vec3::from(*velocity));
+                        state.particles.push(particle);
+                    }
+                }
+            }
+        }
+        GroupSection::Random { diameter, region, count, velocity, seed, .. } => {
+            let mut random = SplitMix64::new(*seed);
+            for placed in 0..*count {
+                let d = draw_diameter(diameter, &mut random);
+                let p = place_without_overlap(region, d, &state.particles, &mut random).ok_or_else(|| {
+                    FieldError::new(format!("{key}.count"), count, format!("a count that fits the region without overlap (only {placed} could be placed)"))
+                })?;
+                let particle = new_particle(section, state, material, d, p, Vec3::from(*velocity));
+                state.particles.push(particle);
+            }
+        }
+    }
+    Ok(())
+}

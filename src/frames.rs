@@ -1,0 +1,112 @@
+//! ParaView output of a run: one `.vtu` of the fluid mesh (the rotor turned to its current
+//! angle), one `.vtp` of the particles and one `.vtp` of the wall triangles per written step,
+//! each series indexed by a `.pvd` file that ParaView opens as a time series.
+
+use std::path::{Path, PathBuf};
+
+use spillage_model::mesh::Mesh;
+use spillage_model::output::vtk::{self, Encoding, Field, PolyCells, PolyData, PvdCollection, UnstructuredCells, UnstructuredGrid};
+use spillage_model::output::OutputError;
+use spillage_model::state::State;
+
+/// Above this many numbers a file is written in raw binary rather than ASCII.
+const BINARY_ABOVE: usize = 20_000;
+
+pub struct Frames {
+    dir: PathBuf,
+    fluid: Option<PvdCollection>,
+    particles: Option<PvdCollection>,
+    walls: Option<PvdCollection>,
+    resume_time: Option<f64>,
+}
+
+impl Frames {
+    /// Frames under `out/`; `resume_time` continues the `.pvd` indexes of an earlier run,
+    /// dropping frames written after that time.
+    pub fn new(out: &Path, resume_time: Option<f64>) -> Result<Self, OutputError> {
+        let dir = out.join("vtk");
+        std::fs::create_dir_all(&dir).map_err(|source| OutputError::Io { path: dir.clone(), source })?;
+        Ok(Self { dir, fluid: None, particles: None, walls: None, resume_time })
+    }
+
+    fn collection<'a>(slot: &'a mut Option<PvdCollection>, path: PathBuf, resume_time: Option<f64>) -> Result<&'a mut PvdCollection, OutputError> {
+        if slot.is_none() {
+            *slot = Some(match resume_time {
+                Some(t) if path.exists() => PvdCollection::resume(&path, t)?,
+                _ => PvdCollection::create(&path)?,
+            });
+        }
+        Ok(slot.as_mut().expect("just set"))
+    }
+
+    /// Writes the state at its current time.
+    pub fn write(&mut self, mesh: Option<&Mesh>, state: &State) -> Result<(), OutputError> {
+        let out = self.dir.parent().expect("vtk folder has a parent").to_path_buf();
+        let step = state.step;
+        if let (Some(mesh), Some(fluid)) = (mesh, &state.fluid) {
+            let name = format!("fluid_{step:08}.vtu");
+            let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p.x, p.y, p.z]).collect();
+            let cells = UnstructuredCells::hexahedra(&mesh.cell_points);
+            let zone: Vec<i64> = mesh.cell_zone.iter().map(|&z| z as i64).collect();
+            let grid = UnstructuredGrid {
+                points: &points,
+                cells: &cells,
+                point_data: vec![],
+                cell_data: vec![
+                    Field::vector("velocity", &fluid.velocity),
+                    Field::scalar("kinematic_pressure", &fluid.pressure),
+                    Field::scalar("fluid_fraction", &fluid.alpha),
+                    Field::int("zone", &zone),
+                ],
+            };
+            let encoding = Encoding::by_size(points.len() * 3 + fluid.velocity.len() * 5, BINARY_ABOVE);
+            vtk::write_vtu(&self.dir.join(&name), &grid, encoding)?;
+            Self::collection(&mut self.fluid, out.join("fluid.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
+        }
+        if let Some(particles) = &state.particles {
+            let name = format!("particles_{step:08}.vtp");
+            let ps = &particles.particles;
+            let centres: Vec<[f64; 3]> = ps.iter().map(|p| p.position.into()).collect();
+            let ids: Vec<i64> = ps.iter().map(|p| p.id as i64).collect();
+            let diameter: Vec<f64> = ps.iter().map(|p| p.diameter).collect();
+            let velocity: Vec<[f64; 3]> = ps.iter().map(|p| p.velocity.into()).collect();
+            let spin: Vec<[f64; 3]> = ps.iter().map(|p| p.spin.into()).collect();
+            let contacts: Vec<i64> = ps.iter().map(|p| i64::from(p.contacts)).collect();
+            let poly = PolyData::particles(
+                &centres,
+                vec![
+                    Field::int("id", &ids),
+                    Field::scalar("diameter", &diameter),
+                    Field::vector("velocity", &velocity),
+                    Field::vector("angular_velocity", &spin),
+                    Field::int("contacts", &contacts),
+                ],
+            );
+            vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(centres.len() * 12, BINARY_ABOVE))?;
+            Self::collection(&mut self.particles, out.join("particles.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
+        }
+        if let Some(walls) = state.walls.as_ref().filter(|w| !w.walls.is_empty()) {
+            let name = format!("walls_{step:08}.vtp");
+            let mut points = Vec::new();
+            let mut triangles = Vec::new();
+            let mut wall_index = Vec::new();
+            for (w, wall) in walls.walls.iter().enumerate() {
+                let base = points.len();
+                points.extend(wall.vertices.iter().map(|&v| <[f64; 3]>::from(wall.to_world(v))));
+                for t in &wall.triangles {
+                    triangles.push(t.map(|i| base + i as usize));
+                    wall_index.push(w as i64);
+                }
+            }
+            let poly = PolyData {
+                points: &points,
+                cells: PolyCells::Triangles(&triangles),
+                point_data: vec![],
+                cell_data: vec![Field::int("wall", &wall_index)],
+            };
+            vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(points.len() * 3 + triangles.len() * 4, BINARY_ABOVE))?;
+            Self::collection(&mut self.walls, out.join("walls.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
+        }
+        Ok(())
+    }
+}

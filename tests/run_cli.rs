@@ -1,0 +1,222 @@
+//! The `spillage` program as a user runs it: results folders that ParaView and scripts can read,
+//! restarts that continue bit-for-bit, results independent of the thread count, and bad input
+//! that gets a clear error instead of a panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use spillage_model::output::series::read_series;
+use spillage_model::output::summary::Summary;
+use spillage_model::output::vtk::{read_pvd, read_vtk};
+
+fn spillage(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spillage")).args(args).output().expect("the spillage binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("spillage-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A small rotor/stator case (sliding interface, BDF2) of `steps` steps.
+fn fluid_case(dir: &Path, steps: u64) -> PathBuf {
+    let text = format!(
+        r#"
+[case]
+name = "small_rotor"
+[time]
+dt = 0.1
+steps = {steps}
+write_every = 2
+[fluid]
+density = 1000.0
+kinematic_viscosity = 0.02
+[mesh]
+generator = "rotor_stator"
+r_inner = 1.0
+r_interface = 1.5
+r_outer = 2.0
+z_min = 0.0
+z_max = 0.1
+n_r_rotor = 3
+n_r_stator = 3
+n_theta_rotor = 16
+n_theta_stator = 20
+two_d = true
+[rotor]
+omega = 1.0
+[boundary.inner]
+type = "wall"
+rotating = true
+[boundary.outer]
+type = "wall"
+[output]
+checkpoint_every = 3
+plots = false
+"#
+    );
+    let path = dir.join("small_rotor.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// A small pour of spheres into a box (particles only).
+fn particle_case(dir: &Path, steps: u64) -> PathBuf {
+    let text = format!(
+        r#"
+[case]
+name = "small_pour"
+[time]
+dt = 1e-3
+steps = {steps}
+write_every = 20
+[particles]
+domain = {{ min = [-0.1, -0.1, -0.1], max = [0.3, 0.3, 0.7] }}
+[[particles.materials]]
+name = "rock"
+density = 2650.0
+youngs_modulus = 60e9
+poisson_ratio = 0.24
+softening = 6000.0
+restitution = 0.5
+friction = 0.5
+[[particles.feed]]
+material = "rock"
+diameter = {{ min = 0.015, max = 0.02 }}
+region = {{ min = [0.02, 0.02, 0.05], max = [0.18, 0.18, 0.2] }}
+rate = 2000.0
+end = 0.05
+seed = 3
+[[walls]]
+name = "box"
+material = "rock"
+shape = {{ type = "box", min = [0.0, 0.0, 0.0], max = [0.2, 0.2, 0.6], divisions = 2, open = ["+z"] }}
+[output]
+checkpoint_every = 60
+plots = false
+"#
+    );
+    let path = dir.join("small_pour.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn run_ok(args: &[&str]) {
+    let out = spillage(args);
+    assert!(out.status.success(), "spillage {args:?} failed:\n{}", String::from_utf8_lossy(&out.stderr));
+}
+
+fn checkpoint(dir: &Path, step: u64) -> Vec<u8> {
+    std::fs::read(dir.join("checkpoints").join(format!("step_{step:08}.ckpt"))).expect("checkpoint written")
+}
+
+#[test]
+fn a_fluid_run_writes_files_paraview_and_scripts_can_read() {
+    let dir = scratch("fluid-files");
+    let case = fluid_case(&dir, 4);
+    let out = dir.join("out");
+    run_ok(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+
+    let frames = read_pvd(&out.join("fluid.pvd")).unwrap();
+    assert_eq!(frames.iter().map(|f| f.time).collect::<Vec<_>>().len(), 3, "frames at steps 0, 2, 4");
+    let first = read_vtk(&out.join(&frames[0].file)).unwrap();
+    let last = read_vtk(&out.join(&frames[2].file)).unwrap();
+    let velocity = first.cell_field("velocity").and_then(|f| f.as_vectors()).expect("velocity vectors");
+    assert_eq!(velocity.len(), 3 * (16 + 20), "one velocity per cell");
+    // The rotor turned by ω·t = 0.4 rad between the first and the last frame: its points moved,
+    // the stator's did not.
+    let moved = first.points.iter().zip(&last.points).filter(|(a, b)| a != b).count();
+    assert!(moved > 0 && moved < first.points.len(), "{moved} of {} points moved", first.points.len());
+
+    let series = read_series(&out.join("series.csv")).unwrap();
+    assert_eq!(series.rows.len(), 4);
+    assert_eq!(&series.columns[..3], &["step", "time", "dt"]);
+    let imbalance = series.column("interface_imbalance").expect("interface column");
+    assert!(imbalance.iter().all(|v| *v <= 1e-12), "interface flux imbalance {imbalance:?}");
+
+    let summary = Summary::read(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.details["status"], "completed");
+    assert_eq!(summary.results["final_step"], 4.0);
+    assert!(summary.results["microseconds_per_cell_step"] > 0.0);
+}
+
+#[test]
+fn a_restarted_fluid_run_continues_bit_for_bit() {
+    let dir = scratch("fluid-restart");
+    let case = fluid_case(&dir, 6);
+    let (whole, resumed) = (dir.join("whole"), dir.join("resumed"));
+    run_ok(&["run", case.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    let mid = whole.join("checkpoints").join("step_00000003.ckpt");
+    run_ok(&["run", case.to_str().unwrap(), "--out", resumed.to_str().unwrap(), "--restart", mid.to_str().unwrap()]);
+    assert!(checkpoint(&whole, 6) == checkpoint(&resumed, 6), "restart from step 3 diverged from the uninterrupted run");
+}
+
+#[test]
+fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
+    let dir = scratch("dem-restart");
+    let case = particle_case(&dir, 180);
+    let (whole, resumed) = (dir.join("whole"), dir.join("resumed"));
+    run_ok(&["run", case.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    let mid = whole.join("checkpoints").join("step_00000120.ckpt");
+    run_ok(&["run", case.to_str().unwrap(), "--out", resumed.to_str().unwrap(), "--restart", mid.to_str().unwrap()]);
+    assert!(checkpoint(&whole, 180) == checkpoint(&resumed, 180), "restart from step 120 diverged");
+    let series = read_series(&whole.join("series.csv")).unwrap();
+    let contacts = series.column("contacts").unwrap();
+    assert!(contacts[119] > 0.0, "the restart must happen with contacts open to test their history");
+    let frames = read_pvd(&whole.join("particles.pvd")).unwrap();
+    let last = read_vtk(&whole.join(&frames.last().unwrap().file)).unwrap();
+    for field in ["id", "diameter", "velocity", "angular_velocity", "contacts"] {
+        assert!(last.point_field(field).is_some(), "particle field {field} missing");
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let dir = scratch("threads");
+    for (case, last) in [(fluid_case(&dir, 3), 3), (particle_case(&dir, 60), 60)] {
+        let (one, two) = (dir.join(format!("one-{last}")), dir.join(format!("two-{last}")));
+        run_ok(&["run", case.to_str().unwrap(), "--out", one.to_str().unwrap(), "--threads", "1"]);
+        run_ok(&["run", case.to_str().unwrap(), "--out", two.to_str().unwrap(), "--threads", "2"]);
+        assert!(checkpoint(&one, last) == checkpoint(&two, last), "{}: 1 and 2 threads differ", case.display());
+    }
+}
+
+#[test]
+fn a_bad_case_gets_a_located_error_and_status_2() {
+    let dir = scratch("bad");
+    let case = fluid_case(&dir, 2);
+    let text = std::fs::read_to_string(&case).unwrap().replace("kinematic_viscosity = 0.02", "kinematic_viscosity = -0.02");
+    std::fs::write(&case, text).unwrap();
+    for command in ["check", "run"] {
+        let out = spillage(&[command, case.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("small_rotor.toml:10:23") && err.contains("fluid.kinematic_viscosity") && err.contains("-0.02"), "{command}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn restarting_from_a_foreign_or_damaged_checkpoint_is_refused() {
+    let dir = scratch("foreign");
+    let case = fluid_case(&dir, 3);
+    let bogus = dir.join("bogus.ckpt");
+    std::fs::write(&bogus, b"not a checkpoint\n").unwrap();
+    let out = spillage(&["run", case.to_str().unwrap(), "--restart", bogus.to_str().unwrap(), "--out", dir.join("o").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a spillage checkpoint"));
+}
+
+#[test]
+fn check_prints_the_derived_numbers() {
+    let dir = scratch("check");
+    let case = fluid_case(&dir, 2);
+    let out = spillage(&["check", case.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in ["cells        108", "Courant", "Reynolds", "memory"] {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+}
