@@ -33,7 +33,7 @@ enum Command {
     Run {
         /// The case file (TOML).
         case: PathBuf,
-        #[arg(long, value_enum, default_value_t = SolverChoice::Reference)]
+        #[arg(long, value_enum, default_value_t = SolverChoice::Fast)]
         solver: SolverChoice,
         /// Results folder (default: results/<case name>).
         #[arg(long)]

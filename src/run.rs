@@ -41,10 +41,11 @@ fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyh
     }
     if let (Some(section), None) = (&case.mesh, &case.particles) {
         let mesh = spillage_model::mesh::build(section).map_err(|e| anyhow::anyhow!("{}: [mesh]: {e}", case.path.display()))?;
-        if choice == SolverChoice::Fast {
-            eprintln!("note: the fast fluid solver does not exist yet; running the reference solver");
-        }
-        return Ok(Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, state.unwrap_or_default()).map_err(located)?));
+        let state = state.unwrap_or_default();
+        return Ok(match choice {
+            SolverChoice::Fast => Box::new(spillage_fast::fluid::FastFluid::new(case, mesh, state).map_err(located)?),
+            SolverChoice::Reference => Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, state).map_err(located)?),
+        });
     }
     anyhow::bail!(
         "{}: no solver for this case yet (fluid: {}, particles: {})",
@@ -52,13 +53,6 @@ fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyh
         case.fluid.is_some(),
         case.particles.is_some()
     )
-}
-
-fn solver_name(choice: SolverChoice) -> &'static str {
-    match choice {
-        SolverChoice::Fast => "fast",
-        SolverChoice::Reference => "reference",
-    }
 }
 
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
@@ -116,7 +110,6 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         Ok(()) => "completed".to_string(),
         Err(e) => format!("failed: {e}"),
     });
-    summary.set_detail("solver", solver_name(opts.solver));
     summary.write(&out.join("summary.json"))?;
     if case.output.plots {
         draw_plots(&out)?;

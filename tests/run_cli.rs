@@ -143,14 +143,18 @@ fn a_fluid_run_writes_files_paraview_and_scripts_can_read() {
 }
 
 #[test]
-fn a_restarted_fluid_run_continues_bit_for_bit() {
+fn a_restarted_fluid_run_continues_bit_for_bit_with_either_solver() {
     let dir = scratch("fluid-restart");
     let case = fluid_case(&dir, 6);
-    let (whole, resumed) = (dir.join("whole"), dir.join("resumed"));
-    run_ok(&["run", case.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
-    let mid = whole.join("checkpoints").join("step_00000003.ckpt");
-    run_ok(&["run", case.to_str().unwrap(), "--out", resumed.to_str().unwrap(), "--restart", mid.to_str().unwrap()]);
-    assert!(checkpoint(&whole, 6) == checkpoint(&resumed, 6), "restart from step 3 diverged from the uninterrupted run");
+    for solver in ["fast", "reference"] {
+        let (whole, resumed) = (dir.join(format!("whole-{solver}")), dir.join(format!("resumed-{solver}")));
+        run_ok(&["run", case.to_str().unwrap(), "--solver", solver, "--out", whole.to_str().unwrap()]);
+        let mid = whole.join("checkpoints").join("step_00000003.ckpt");
+        run_ok(&["run", case.to_str().unwrap(), "--solver", solver, "--out", resumed.to_str().unwrap(), "--restart", mid.to_str().unwrap()]);
+        assert!(checkpoint(&whole, 6) == checkpoint(&resumed, 6), "{solver}: restart from step 3 diverged from the uninterrupted run");
+        let summary = Summary::read(&resumed.join("summary.json")).unwrap();
+        assert_eq!(summary.solver, solver);
+    }
 }
 
 #[test]
@@ -174,6 +178,7 @@ fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
+    // The fluid case runs the default (fast, multi-threaded) solver.
     let dir = scratch("threads");
     for (case, last) in [(fluid_case(&dir, 3), 3), (particle_case(&dir, 60), 60)] {
         let (one, two) = (dir.join(format!("one-{last}")), dir.join(format!("two-{last}")));
