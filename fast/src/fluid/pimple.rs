@@ -38,6 +38,14 @@ impl Default for FastSettings {
     }
 }
 
+impl FastSettings {
+    /// The controls a case file sets (`[numerics] linear_tolerance`, `max_linear_iterations`).
+    pub fn from_numerics(numerics: &spillage_model::fluid::settings::NumericsSection) -> Self {
+        let tolerance = Tolerance { tolerance: numerics.linear_tolerance, max_iterations: numerics.max_linear_iterations };
+        FastSettings { pressure: tolerance, momentum: tolerance }
+    }
+}
+
 /// Iteration counts of the last step (for benchmarks).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SolveCounts {
@@ -206,7 +214,7 @@ impl FastFluid {
             frame,
             rotating_zone,
             dt,
-            settings: FastSettings::default(),
+            settings: FastSettings::from_numerics(&case.numerics),
             in_rotor,
             moving_faces,
             links,

@@ -242,6 +242,14 @@ pub struct NumericsSection {
     /// Include gravity in the fluid momentum (a hydrostatic pressure in single-phase flow).
     #[serde(default = "yes")]
     pub fluid_gravity: bool,
+    /// Normalised residual (OpenFOAM's definition) to which the fast solver's iterative linear
+    /// solves converge; the reference solver factorises exactly and ignores it. The default is
+    /// tight enough for the step-by-step equivalence with the reference.
+    #[serde(default = "NumericsSection::default_linear_tolerance")]
+    pub linear_tolerance: f64,
+    /// Iteration cap of the fast solver's linear solves.
+    #[serde(default = "NumericsSection::default_max_linear_iterations")]
+    pub max_linear_iterations: usize,
 }
 
 fn one() -> usize {
@@ -269,6 +277,8 @@ impl Default for NumericsSection {
             pressure_wall: PressureWallCondition::default(),
             body_force: [0.0; 3],
             fluid_gravity: true,
+            linear_tolerance: Self::default_linear_tolerance(),
+            max_linear_iterations: Self::default_max_linear_iterations(),
         }
     }
 }
@@ -282,6 +292,12 @@ impl NumericsSection {
     }
     fn default_p_initial() -> f64 {
         1e-3
+    }
+    fn default_linear_tolerance() -> f64 {
+        1e-12
+    }
+    fn default_max_linear_iterations() -> usize {
+        2000
     }
 
     pub fn validate(&self) -> Result<(), FieldError> {
@@ -300,6 +316,10 @@ impl NumericsSection {
             if !(value.is_finite() && value > 0.0 && value <= 1.0) {
                 return Err(FieldError::new(key, value, "a relaxation factor in (0, 1]"));
             }
+        }
+        in_range("numerics.linear_tolerance", self.linear_tolerance, 1e-16, 1e-2, "(normalised residual)")?;
+        if !(1..=1_000_000).contains(&self.max_linear_iterations) {
+            return Err(FieldError::new("numerics.max_linear_iterations", self.max_linear_iterations, "a whole number from 1 to 10⁶"));
         }
         finite_vector("numerics.body_force", self.body_force)
     }
