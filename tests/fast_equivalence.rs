@@ -3,7 +3,7 @@
 //! solvers; after every step the states must agree field by field (velocity, pressure, face
 //! flux, boundary pressure, …) to 1e-8 relative to each field's scale. The reference solves
 //! exactly (sparse LU), the fast solver iteratively to a normalised residual of 1e-12
-//! (`FastSettings::default`), which bounds the difference well below 1e-8 on these meshes.
+//! (`[numerics] linear_tolerance`, default 1e-12), which bounds the difference well below 1e-8.
 //! Also: the fast solver gives the same bits on 1 and 2 threads.
 
 use std::path::PathBuf;
