@@ -225,3 +225,20 @@ fn check_prints_the_derived_numbers() {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
 }
+
+#[test]
+fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() {
+    let dir = scratch("unconverged");
+    let case = fluid_case(&dir, 3);
+    let text = std::fs::read_to_string(&case).unwrap().replace("[output]", "[numerics]\nmax_linear_iterations = 1\n[output]");
+    std::fs::write(&case, text).unwrap();
+    let out_dir = dir.join("out");
+    let out = spillage(&["run", case.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("did not converge in 1 iterations") && err.contains("max_linear_iterations"), "{err}");
+    let summary = Summary::read(&out_dir.join("summary.json")).unwrap();
+    let status = summary.details["status"].as_str().unwrap().to_string();
+    assert!(status.starts_with("failed:") && status.contains("did not converge"), "{status}");
+    assert!(read_pvd(&out_dir.join("fluid.pvd")).unwrap().len() == 1, "the initial frame stays readable");
+}

@@ -38,6 +38,17 @@ impl Default for FastSettings {
     }
 }
 
+/// Why a solve that used its whole iteration budget is not an answer (`None` when it
+/// converged): a silently unconverged solve would pass off a wrong state as a result.
+fn unconverged(stats: &crate::linear::SolveStats, tolerance: Tolerance) -> Option<String> {
+    (stats.iterations >= tolerance.max_iterations && stats.final_residual > tolerance.tolerance).then(|| {
+        format!(
+            "did not converge in {} iterations (normalised residual {:.3e} > {:.1e}); raise [numerics] max_linear_iterations or loosen linear_tolerance",
+            stats.iterations, stats.final_residual, tolerance.tolerance
+        )
+    })
+}
+
 impl FastSettings {
     /// The controls a case file sets (`[numerics] linear_tolerance`, `max_linear_iterations`).
     pub fn from_numerics(numerics: &spillage_model::fluid::settings::NumericsSection) -> Self {
@@ -523,6 +534,9 @@ impl FastFluid {
             if !stats.final_residual.is_finite() {
                 return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): residual not finite")));
             }
+            if let Some(message) = unconverged(&stats, self.settings.momentum) {
+                return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): {message}")));
+            }
             let _ = n;
         }
         Ok(())
@@ -666,6 +680,10 @@ impl FastFluid {
             if !stats.final_residual.is_finite() {
                 self.w.p_b = p_b;
                 return Err(SolverError::LinearSolve("pressure equation: residual not finite".into()));
+            }
+            if let Some(message) = unconverged(&stats, self.settings.pressure) {
+                self.w.p_b = p_b;
+                return Err(SolverError::LinearSolve(format!("pressure equation: {message}")));
             }
         }
         // conservative fluxes from the final pressure (T4.28)
