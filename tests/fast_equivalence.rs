@@ -51,7 +51,10 @@ fn worst_scaled(reference: &State, d: &spillage_model::state_diff::StateDiff) ->
 }
 
 fn compare(name: &str) {
-    let c = case(name);
+    compare_case(name, case(name));
+}
+
+fn compare_case(name: &str, c: Case) {
     let mesh = spillage::verify::fluid::build_mesh(&c).unwrap();
     let mut reference = ReferenceFluid::new(&c, mesh.clone(), State::default()).unwrap();
     let mut fast = FastFluid::new(&c, mesh, State::default()).unwrap();
@@ -72,6 +75,18 @@ fn compare(name: &str) {
         assert!(w <= TOLERANCE, "{name}: step {step}: fast and reference differ by {w:e} (> {TOLERANCE:e})\n{}", d.report());
     }
     eprintln!("{name}: {STEPS} steps, largest relative difference {worst:.3e}\n{worst_report}");
+}
+
+/// The time-derivative flux correction (`[numerics] ddt_flux_correction`, off by default) on a
+/// periodic case and on the sliding-interface case (where it must vanish on moved faces and
+/// overlap links in both solvers alike).
+#[test]
+fn ddt_flux_correction_taylor_green_and_couette_sliding() {
+    for name in ["taylor_green.toml", "couette_sliding.toml"] {
+        let mut c = case(name);
+        c.numerics.ddt_flux_correction = true;
+        compare_case(name, c);
+    }
 }
 
 #[test]

@@ -76,6 +76,9 @@ struct Work {
     p_b: Vec<f64>,
     link_flux: Vec<f64>,
     link_h: Vec<f64>,
+    /// Time-derivative flux correction per link divided by rAU_f (reference
+    /// `solver::ddt_flux_correction`).
+    ddt_corr: Vec<f64>,
     boundary_flux: Vec<f64>,
     /// Prescribed boundary flux (NaN where the pressure is fixed).
     prescribed: Vec<f64>,
@@ -182,7 +185,11 @@ impl FastFluid {
                 let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
                 f.flux[face] = u.dot(&mesh.face_areas[face]);
             }
+            f.flux_old = f.flux.clone();
             state.fluid = Some(f);
+        }
+        if let Some(f) = state.fluid.as_mut() {
+            f.fill_missing_old_flux(&mesh);
         }
         {
             let f = state.fluid.as_ref().expect("fluid state");
@@ -194,6 +201,7 @@ impl FastFluid {
                 && f.alpha_old.len() == n
                 && f.alpha_old_old.len() == n
                 && f.flux.len() == nf
+                && f.flux_old.len() == nf
                 && f.boundary_pressure.len() == nf - mesh.n_internal_faces;
             if !ok {
                 return Err(unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")));
@@ -291,7 +299,7 @@ impl FastFluid {
         for v in [&mut w.fixed_u, &mut w.boundary_u] {
             v.resize(nb, Vec3::zeros());
         }
-        for v in [&mut w.link_flux, &mut w.link_h, &mut w.upper, &mut w.lower, &mut w.pcoef, &mut w.ah] {
+        for v in [&mut w.link_flux, &mut w.link_h, &mut w.ddt_corr, &mut w.upper, &mut w.lower, &mut w.pcoef, &mut w.ah] {
             v.resize(nl, 0.0);
         }
         w.link_src.resize(nl, Vec3::zeros());
@@ -367,6 +375,27 @@ impl FastFluid {
                 } else {
                     let wt = links.weight[l];
                     (vec_of(u, p) * wt + vec_of(u, q) * (1.0 - wt)).dot(&links.area[l])
+                };
+                unsafe { o.set(l, v) };
+            });
+            // time-derivative flux correction (reference `solver::ddt_flux_correction`): zero
+            // on moved faces and overlap links, whose geometry changed since φᵒ was stored
+            let (_, c1, c2) = (tc[0], tc[1], tc[2]);
+            let enabled = self.numerics.ddt_flux_correction;
+            let (alpha_o, alpha_oo) = (&fluid.alpha_old, &fluid.alpha_old_old);
+            let (u_o, u_oo) = (&w.u_old, &w.u_oo);
+            let o = Out::of(&mut w.ddt_corr);
+            par_for(nl, |l| {
+                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+                let v = if enabled && l < links.n_internal && !(rotor_moves && moved[p]) {
+                    let wt = links.weight[l];
+                    let old = links.interpolate(l, alpha_o[p], alpha_o[q]) * fluid.flux[l]
+                        - (vec_of(u_o, p) * alpha_o[p] * wt + vec_of(u_o, q) * alpha_o[q] * (1.0 - wt)).dot(&links.area[l]);
+                    let old_old = links.interpolate(l, alpha_oo[p], alpha_oo[q]) * fluid.flux_old[l]
+                        - (vec_of(u_oo, p) * alpha_oo[p] * wt + vec_of(u_oo, q) * alpha_oo[q] * (1.0 - wt)).dot(&links.area[l]);
+                    -(c1 * old + c2 * old_old) / dt
+                } else {
+                    0.0
                 };
                 unsafe { o.set(l, v) };
             });
@@ -605,7 +634,7 @@ impl FastFluid {
             let w = &mut self.w;
             scalar_gradient(links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p_work, &p_b, &mut w.grad_p);
             {
-                let (rau, hbya, gp) = (&w.rau, &w.hbya, &w.grad_p);
+                let (rau, hbya, gp, ddt_corr) = (&w.rau, &w.hbya, &w.grad_p, &w.ddt_corr);
                 let (oh, oc, oa) = (Out::of(&mut w.link_h), Out::of(&mut w.pcoef), Out::of(&mut w.ah));
                 par_for(links.len(), |l| {
                     let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
@@ -614,7 +643,7 @@ impl FastFluid {
                     let rau_f = wt * rau[p] + (1.0 - wt) * rau[q];
                     let hbya_f = hbya[p] * wt + hbya[q] * (1.0 - wt);
                     let grad_f = gp[p] * wt + gp[q] * (1.0 - wt);
-                    let h_flux = hbya_f.dot(&links.area[l]) - rau_f * grad_f.dot(&links.non_orthogonal[l]);
+                    let h_flux = hbya_f.dot(&links.area[l]) - rau_f * grad_f.dot(&links.non_orthogonal[l]) + rau_f * ddt_corr[l];
                     unsafe {
                         oh.set(l, h_flux);
                         oc.set(l, alpha_f * rau_f * links.laplacian[l]);
@@ -803,6 +832,7 @@ impl FastFluid {
             fluid.velocity[c] = [w.u[0][c], w.u[1][c], w.u[2][c]];
         }
         fluid.pressure.copy_from_slice(&w.p);
+        std::mem::swap(&mut fluid.flux, &mut fluid.flux_old);
         fluid.flux.fill(0.0);
         fluid.flux[..links.n_internal].copy_from_slice(&w.link_flux[..links.n_internal]);
         for f in 0..nf {

@@ -16,6 +16,11 @@ pub struct FluidState {
     /// face's area vector. On a sliding-interface face it is the sum of its overlap fluxes,
     /// out of that face's cell.
     pub flux: Vec<f64>,
+    /// The face flux one step back, φ^{n−1} (BDF2 part of the time-derivative flux correction,
+    /// reference fluid module doc step 4d). Empty in checkpoints written before it existed:
+    /// [`FluidState::fill_missing_old_flux`] then rebuilds it.
+    #[serde(default)]
+    pub flux_old: Vec<f64>,
     /// Fluid fraction α_c at the new, old and old-old time levels (1 without particles).
     pub alpha: Vec<f64>,
     pub alpha_old: Vec<f64>,
@@ -33,10 +38,44 @@ impl FluidState {
             pressure: vec![0.0; n_cells],
             boundary_pressure: vec![0.0; n_faces - n_internal_faces],
             flux: vec![0.0; n_faces],
+            flux_old: vec![0.0; n_faces],
             alpha: vec![1.0; n_cells],
             alpha_old: vec![1.0; n_cells],
             alpha_old_old: vec![1.0; n_cells],
             cumulative_continuity_error: 0.0,
         }
+    }
+
+    /// A checkpoint without φ^{n−1} (written before it was stored) gets the flux of the
+    /// interpolated u^{n−1} on internal faces and φⁿ on boundary faces: the old-old part of
+    /// the time-derivative flux correction then vanishes on the first step instead of using
+    /// a flux that does not belong to u^{n−1}.
+    pub fn fill_missing_old_flux(&mut self, mesh: &crate::mesh::Mesh) {
+        if !self.flux_old.is_empty() || self.velocity_old.len() != mesh.cell_volumes.len() {
+            return;
+        }
+        let mut flux_old = self.flux.clone();
+        for (face, value) in flux_old.iter_mut().enumerate().take(mesh.n_internal_faces) {
+            let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
+            let w = mesh.face_weight[face];
+            let u = crate::mesh::Vec3::from(self.velocity_old[p]) * w + crate::mesh::Vec3::from(self.velocity_old[nb]) * (1.0 - w);
+            *value = u.dot(&mesh.face_areas[face]);
+        }
+        self.flux_old = flux_old;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A state serialised before `flux_old` existed still reads (empty `flux_old`).
+    #[test]
+    fn flux_old_defaults_to_empty_when_missing() {
+        let mut value = serde_json::to_value(FluidState::at_rest(2, 7, 1)).unwrap();
+        value.as_object_mut().unwrap().remove("flux_old");
+        let state: FluidState = serde_json::from_value(value).unwrap();
+        assert!(state.flux_old.is_empty());
+        assert_eq!(state.flux.len(), 7);
     }
 }

@@ -53,14 +53,27 @@
 //!       Fluxes φ = HbyA_f·S − rAU_f (∇P)_f·T − rAU_f |S|²/(d·S)(P_N − P_P) from the solved P
 //!       (exactly conservative). P ← P* + α_p (P_new − P*); boundary pressures from the
 //!       relaxed P; u = HbyA − rAU ∇P.
-//!       There is no Rhie–Chow time-derivative correction (OpenFOAM ddtCorr): HbyA_f carries the
-//!       interpolated old velocities, not the old fluxes, so φ differs from the interpolated u by
-//!       rAU_f[(∇P)_f interpolated − compact ∇P]·S ≈ (Δt/c₀)·O(h²), an error of order Δt·h²
-//!       (measured on the Taylor–Green case; see cases/verification/fluid/taylor_green.toml).
+//!       Time-derivative flux correction (OpenFOAM `fvc::ddtCorr`, coupling coefficient 1;
+//!       `[numerics] ddt_flux_correction`, default off, see below): the momentum source carries the old
+//!       levels −(c₁αᵒuᵒ + c₂αᵒᵒuᵒᵒ)V/Δt, so HbyA_f·S carries the interpolated old velocities.
+//!       The predicted face flux gets rAU_f·(−1/Δt)[c₁(α_fᵒ φᵒ − (αᵒuᵒ)_f·S)
+//!       + c₂(α_fᵒᵒ φᵒᵒ − (αᵒᵒuᵒᵒ)_f·S)] added, so that its old-time part is the old flux.
+//!       Zero on boundary faces, on faces of the moving zone and on overlap links (their
+//!       geometry changed since φᵒ, φᵒᵒ were stored). Without it φ differs from the
+//!       interpolated u by rAU_f[(∇P)_f interpolated − compact ∇P]·S ≈ (Δt/c₀)·O(h²), an error
+//!       of order Δt·h² that holds the Taylor–Green kinetic-energy decay at order ≈ 1.4 with
+//!       Δt ∝ h (cases/verification/fluid/taylor_green.toml). With the correction the mismatch
+//!       X = φ − u_f·S obeys X ≈ (rAU_f/Δt)(−c₁Xᵒ − c₂Xᵒᵒ) + D (D the instantaneous term
+//!       above): a recursion with a root near 1 when νΔt/h² is small, so X accumulates to
+//!       ≈ D/(diffusion number) instead of staying D. Measured on Taylor–Green (Δt ∝ h):
+//!       |KE error| 1.12e-3 → 1.46e-2 (16²), 4.14e-4 → 9.04e-4 (32²); velocity rms 3.13e-3 →
+//!       2.16e-2, 3.73e-4 → 1.37e-3. The KE "order" 16→32 rises to 4.0 only because the coarse
+//!       error grows, so the correction stays off by default (OpenFOAM's ddtCouplingCoeff
+//!       1 − min(|X|/|φᵒ|, 1) would be ≈ 1 here and not change this).
 //!       With one corrector and no under-relaxation the outer loop may not converge at
 //!       diffusion numbers νΔt/h² ≳ 0.2; use `piso_correctors = 2` or relaxation there.
 //!    e. Stop when the initial pressure residual of this outer iteration < `p_initial_residual`.
-//! 5. uᵒᵒ ← uᵒ, uᵒ ← u, Pᵒ ← P, φᵒ ← φ (overlap fluxes summed onto their rotor and stator
+//! 5. uᵒᵒ ← uᵒ, uᵒ ← u, Pᵒ ← P, φᵒᵒ ← φᵒ, φᵒ ← φ (overlap fluxes summed onto their rotor and stator
 //!    faces), α levels shifted, continuity errors accumulated.
 //!
 //! # Diagnostics (per step, `StepReport::values`)

@@ -39,6 +39,10 @@ pub struct StepInputs<'a> {
     pub body_force: Vec3,
     /// Fixed boundary velocity of each boundary face (`None` for pressure/symmetry faces).
     pub boundary_velocity: &'a [Option<Vec3>],
+    /// Per link: the time-derivative flux correction divided by rAU_f (module doc step 4d),
+    /// −(1/Δt)[c₁(α_fᵒ φᵒ − (αᵒuᵒ)_f·S) + c₂(α_fᵒᵒ φᵒᵒ − (αᵒᵒuᵒᵒ)_f·S)]; zero on moved and
+    /// overlap links and with `ddt_flux_correction = false`.
+    pub ddt_flux_correction: &'a [f64],
 }
 
 impl StepInputs<'_> {

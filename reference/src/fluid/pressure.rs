@@ -100,8 +100,11 @@ pub fn correct(
             let rau_f = link.interpolate(rau[p], rau[nb]);
             let hbya_f = link.interpolate_vec(hbya[p], hbya[nb]);
             let grad_f = link.interpolate_vec(grad_p[p], grad_p[nb]);
-            // predicted flux (A⁻¹H)_f·S minus the explicit non-orthogonal pressure part
-            let h_flux = hbya_f.dot(&link.area) - rau_f * grad_f.dot(&link.non_orthogonal_part());
+            // predicted flux (A⁻¹H)_f·S minus the explicit non-orthogonal pressure part, plus
+            // the time-derivative flux correction (old fluxes in place of interpolated old
+            // velocities)
+            let h_flux = hbya_f.dot(&link.area) - rau_f * grad_f.dot(&link.non_orthogonal_part())
+                + rau_f * inputs.ddt_flux_correction[l];
             link_h_flux[l] = h_flux;
             let c = alpha_f * rau_f * link.laplacian_coefficient();
             lap.add_diagonal(p, c);

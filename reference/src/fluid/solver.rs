@@ -82,7 +82,11 @@ impl ReferenceFluid {
                 let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
                 f.flux[face] = u.dot(&mesh.face_areas[face]);
             }
+            f.flux_old = f.flux.clone();
             state.fluid = Some(f);
+        }
+        if let Some(f) = state.fluid.as_mut() {
+            f.fill_missing_old_flux(&mesh);
         }
         let mut solver = ReferenceFluid { mesh, state, conditions, numerics, nu: fluid.kinematic_viscosity, body_force, rotor, interface_axis, dt };
         solver.check_sizes()?;
@@ -132,6 +136,7 @@ impl ReferenceFluid {
             && f.alpha_old.len() == n
             && f.alpha_old_old.len() == n
             && f.flux.len() == nf
+            && f.flux_old.len() == nf
             && f.boundary_pressure.len() == nf - self.mesh.n_internal_faces;
         if ok {
             Ok(())
@@ -176,6 +181,8 @@ impl ReferenceFluid {
             geo.boundary.iter().map(|face| self.conditions.fixed_velocity(face, self.rotor.as_ref())).collect();
         let prescribed: Vec<Option<f64>> =
             geo.boundary.iter().map(|face| self.conditions.prescribed_flux(face, self.rotor.as_ref())).collect();
+        let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
+        let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &moved, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {
             geo: &geo,
             conditions: &self.conditions,
@@ -192,6 +199,7 @@ impl ReferenceFluid {
             u_old_old: &u_old_old,
             body_force: self.body_force,
             boundary_velocity: &boundary_velocity,
+            ddt_flux_correction: &ddt_flux_correction,
         };
 
         // starting values (step 3 of the algorithm)
@@ -201,7 +209,6 @@ impl ReferenceFluid {
         // faces that moved (rotor zone) or were rebuilt (overlaps) start from the interpolated
         // velocity on the new geometry; mixing old-geometry fluxes with new faces would open the
         // cells of the first outer iteration
-        let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         let mut link_flux: Vec<f64> = geo
             .links
             .iter()
@@ -288,7 +295,7 @@ impl ReferenceFluid {
             flux[face.face] = boundary_flux[b];
             fluid.boundary_pressure[face.index] = p_boundary[b];
         }
-        fluid.flux = flux;
+        fluid.flux_old = std::mem::replace(&mut fluid.flux, flux);
         fluid.alpha_old_old = fluid.alpha_old.clone();
         fluid.alpha_old = fluid.alpha.clone();
         fluid.cumulative_continuity_error += global;
@@ -312,6 +319,42 @@ impl ReferenceFluid {
             ],
         })
     }
+}
+
+/// Per link, the time-derivative flux correction divided by rAU_f (module doc step 4d, OpenFOAM
+/// `fvc::ddtCorr` with coupling coefficient 1): the momentum source carries the old levels as
+/// −(c₁αᵒuᵒ + c₂αᵒᵒuᵒᵒ)V/Δt, so (A⁻¹H)_f·S carries rAU_f(−1/Δt)[c₁(αᵒuᵒ)_f + c₂(αᵒᵒuᵒᵒ)_f]·S;
+/// this term swaps those interpolated old velocities for the old fluxes,
+/// −(1/Δt)[c₁(α_fᵒ φᵒ − (αᵒuᵒ)_f·S) + c₂(α_fᵒᵒ φᵒᵒ − (αᵒᵒuᵒᵒ)_f·S)].
+/// Zero on links whose geometry changed since the old fluxes were stored (faces of the moving
+/// zone, overlap links) and when `enabled` is false; boundary faces have none.
+#[allow(clippy::too_many_arguments)]
+fn ddt_flux_correction(
+    geo: &Geometry,
+    fluid: &FluidState,
+    moved: &[bool],
+    u_old: &[Vec3],
+    u_old_old: &[Vec3],
+    time_coefficients: [f64; 3],
+    dt: f64,
+    enabled: bool,
+) -> Vec<f64> {
+    let [_, c1, c2] = time_coefficients;
+    let (alpha_o, alpha_oo) = (&fluid.alpha_old, &fluid.alpha_old_old);
+    geo.links
+        .iter()
+        .map(|link| match link.origin {
+            LinkOrigin::Face(f) if enabled && !moved[link.owner] => {
+                let (p, nb) = (link.owner, link.neighbour);
+                let old = link.interpolate(alpha_o[p], alpha_o[nb]) * fluid.flux[f]
+                    - link.interpolate_vec(u_old[p] * alpha_o[p], u_old[nb] * alpha_o[nb]).dot(&link.area);
+                let old_old = link.interpolate(alpha_oo[p], alpha_oo[nb]) * fluid.flux_old[f]
+                    - link.interpolate_vec(u_old_old[p] * alpha_oo[p], u_old_old[nb] * alpha_oo[nb]).dot(&link.area);
+                -(c1 * old + c2 * old_old) / dt
+            }
+            _ => 0.0,
+        })
+        .collect()
 }
 
 /// Turns the rotor zone to `angle` (from its reference geometry, so no drift accumulates).
