@@ -99,7 +99,8 @@ fn poiseuille_inlet_outlet() {
 
 /// Velocity rms order (space and time refined together, Δt ∝ h) and outer-loop convergence are
 /// asserted. Open: the KE-decay order (1.4 on 16→32): without a Rhie–Chow ddtCorr the face flux
-/// carries an O(Δt·h²) term of opposite sign to the spatial KE error (see the case file).
+/// carries an O(Δt·h²) term of opposite sign to the spatial KE error (see the case file); the
+/// optional ddtCorr (`[numerics] ddt_flux_correction`) raises the errors instead (case file).
 #[test]
 fn taylor_green() {
     check_with_open("taylor_green.toml", &["observed order KE decay"]);
