@@ -101,7 +101,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     summary.set_result("final_time", state.time);
     summary.set_result("final_step", state.step as f64);
-    if let Some(last) = &run.last_report() {
+    if let Some((_, last, _)) = &run.series {
         for (name, value) in &last.values {
             summary.set_result(name, *value);
         }
@@ -137,17 +137,15 @@ struct Running<'a> {
     case: &'a Case,
     out: &'a Path,
     frames: Frames,
-    series: Option<(SeriesWriter, StepReport)>,
+    /// The series file, the last step's report and a reusable row buffer (no allocation per
+    /// step once the first row is written).
+    series: Option<(SeriesWriter, StepReport, Vec<f64>)>,
     restart_time: Option<f64>,
     steps: u64,
     step_seconds: f64,
 }
 
 impl Running<'_> {
-    fn last_report(&self) -> Option<StepReport> {
-        self.series.as_ref().map(|(_, r)| r.clone())
-    }
-
     fn finished(&self, state: &State) -> bool {
         let t = &self.case.time;
         match (t.steps, t.end_time) {
@@ -201,13 +199,14 @@ impl Running<'_> {
                 Some(t) if path.exists() => SeriesWriter::resume(&path, &columns, Some(t))?,
                 _ => SeriesWriter::create(&path, &columns)?,
             };
-            self.series = Some((writer, report.clone()));
+            self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));
         }
-        let (writer, last) = self.series.as_mut().expect("just created");
-        let mut row = vec![state.step as f64, state.time, state.dt];
+        let (writer, last, row) = self.series.as_mut().expect("just created");
+        row.clear();
+        row.extend([state.step as f64, state.time, state.dt]);
         row.extend(report.values.iter().filter(|(n, _)| !SERIES_CLOCK.contains(n)).map(|(_, v)| *v));
-        writer.write_row(&row)?;
-        *last = report.clone();
+        writer.write_row(row)?;
+        last.values.clone_from(&report.values);
         Ok(())
     }
 
