@@ -10,30 +10,7 @@ use spillage_model::mesh::Vec3;
 use super::layout::{Adjacency, Boundary, Links};
 use crate::linear::reduce::CHUNK;
 
-/// Raw pointer for disjoint parallel writes (index i is written by exactly one task).
-#[derive(Clone, Copy)]
-pub struct Out<T>(pub *mut T);
-unsafe impl<T> Send for Out<T> {}
-unsafe impl<T> Sync for Out<T> {}
-impl<T> Out<T> {
-    pub fn of(v: &mut [T]) -> Self {
-        Out(v.as_mut_ptr())
-    }
-    /// # Safety
-    /// `i` in bounds and written by one task only.
-    /// # Safety
-    /// As [`Out::set`].
-    #[inline]
-    pub unsafe fn ptr(self, i: usize) -> *mut T {
-        self.0.add(i)
-    }
-    /// # Safety
-    /// `i` in bounds and written by one task only.
-    #[inline]
-    pub unsafe fn set(self, i: usize, value: T) {
-        *self.0.add(i) = value;
-    }
-}
+pub use crate::linear::Out;
 
 /// Runs `f(c)` for every index in parallel (minimum [`CHUNK`] per task).
 #[inline]

@@ -63,6 +63,12 @@ pub struct SolveCounts {
     pub pressure_solves: usize,
     pub pressure_iterations: usize,
     pub momentum_iterations: usize,
+    /// Iterations of the first [`SolveCounts::PER_SOLVE`] pressure solves of the step, in order.
+    pub pressure_per_solve: [u16; SolveCounts::PER_SOLVE],
+}
+
+impl SolveCounts {
+    pub const PER_SOLVE: usize = 12;
 }
 
 #[derive(Default)]
@@ -697,13 +703,13 @@ impl FastFluid {
                 let (prhs, ax) = (&w.prhs, &w.ax);
                 initial_residual = self.red.sum(n, |i| (prhs[i] - ax[i]).abs()) / norm;
             }
-            // the hierarchy is built once per time step, on its first pressure matrix: later
-            // matrices of the step differ only through rAU, and CG stays exact with any SPD
-            // preconditioner (the tolerance, not the preconditioner, sets the answer)
-            if self.counts.pressure_solves == 0 {
-                self.amg.setup(&w.pres);
-            }
+            // the aggregation is rebuilt only when the sparsity pattern changed (the overlap
+            // links moved); otherwise only the hierarchy's values follow the new matrix
+            self.amg.setup(&w.pres);
             let stats = self.pcg.solve(&w.pres, &w.prhs, &mut w.p_work, &mut self.amg, self.settings.pressure);
+            if let Some(slot) = self.counts.pressure_per_solve.get_mut(self.counts.pressure_solves) {
+                *slot = stats.iterations.min(u16::MAX as usize) as u16;
+            }
             self.counts.pressure_solves += 1;
             self.counts.pressure_iterations += stats.iterations;
             if !stats.final_residual.is_finite() {

@@ -1,22 +1,33 @@
-//! Aggregation algebraic multigrid (unsmoothed, double pairwise aggregation after Notay 2010) used
-//! as a symmetric V-cycle preconditioner for CG: block Gauss–Seidel forward before and backward
-//! after the coarse correction (so the cycle is a symmetric operator), Galerkin coarse matrices
-//! Aᶜ = PᵀAP with piecewise-constant P, dense Cholesky on the coarsest level.
+//! Aggregation algebraic multigrid (unsmoothed, double pairwise aggregation, Notay 2010) used
+//! as the preconditioner of flexible CG for the pressure: a K-cycle (Notay & Vassilevski 2008:
+//! on every coarse level except the coarsest, the correction is two steps of flexible CG
+//! preconditioned by the next coarser cycle, the second skipped when the first reduces the
+//! coarse residual by 4), one multicolour Gauss–Seidel sweep forward before and backward after
+//! the coarse correction ([`super::smoother`]), Galerkin coarse matrices Aᶜ = PᵀAP with
+//! piecewise-constant P, dense Cholesky on the coarsest level. The K-cycle keeps the iteration
+//! count nearly independent of the number of levels, where the V-cycle of unsmoothed aggregation
+//! degrades with every level added (measured on the lid-driven cavity's pressure matrix, 256²:
+//! 33 → 10 iterations to a normalised residual of 1e-7).
 //!
-//! The aggregation is sequential and in index order (deterministic); everything else runs on
-//! rayon with thread-count-independent results.
+//! The aggregation and the colourings are sequential and in index order (deterministic). When a
+//! matrix has the sparsity pattern of the previous setup, they are kept and only the values are
+//! recomputed (inverse diagonals and coarse matrices through a precomputed fine-entry →
+//! coarse-entry map), which is cheap enough to do for every solve. Everything else runs on
+//! rayon with thread-count-independent results (fixed-chunk reductions, multicolour sweeps).
 
 use rayon::prelude::*;
 
 use super::csr::Csr;
-use super::reduce::CHUNK;
-use super::smoother::{block_gauss_seidel, block_gauss_seidel_from_zero};
-use super::Preconditioner;
+use super::reduce::{Reducer, CHUNK};
+use super::smoother::{inverse_diagonal, sweep, sweep_from_zero, Colouring};
+use super::{Out, Preconditioner};
 
 /// Coarsest level size solved by dense Cholesky.
 const DENSE_MAX: usize = 64;
 /// Strength threshold: j is a strong neighbour of i if −a_ij ≥ β max_k(−a_ik).
 const STRENGTH: f64 = 0.25;
+/// K-cycle: skip the second coarse Krylov step when ‖r̃‖ ≤ t ‖r‖ (Notay's t = 0.25).
+const KCYCLE_SKIP: f64 = 0.25;
 const NONE: u32 = u32::MAX;
 
 /// Map from one level to the next coarser one.
@@ -27,16 +38,29 @@ struct Transfer {
     /// Fine rows of coarse row I: `members[start[I]..start[I + 1]]` (ascending).
     start: Vec<u32>,
     members: Vec<u32>,
+    /// Coarse off-diagonal entry of each fine off-diagonal entry (`NONE`: inside one aggregate,
+    /// adds to the coarse diagonal).
+    entry_map: Vec<u32>,
 }
 
-/// Work vectors of one level: the fine residual and scratch, and the coarse right-hand side and
-/// correction of the next level.
+/// Smoother data of one level: its colouring and inverse diagonal.
+#[derive(Clone, Debug, Default)]
+struct Smoother {
+    colouring: Colouring,
+    inv_diag: Vec<f64>,
+}
+
+/// Work vectors of the coarse level of one transfer: right-hand side, correction and the K-cycle
+/// vectors (two preconditioned directions, their images, the updated residual).
 #[derive(Clone, Debug, Default)]
 struct LevelWork {
-    r: Vec<f64>,
-    tmp: Vec<f64>,
     bc: Vec<f64>,
     xc: Vec<f64>,
+    v1: Vec<f64>,
+    v2: Vec<f64>,
+    w1: Vec<f64>,
+    w2: Vec<f64>,
+    rt: Vec<f64>,
 }
 
 /// Dense Cholesky factor L (row-major, lower) of the coarsest matrix.
@@ -46,22 +70,40 @@ struct Dense {
     l: Vec<f64>,
 }
 
+/// The hierarchy. [`Amg::setup`] must be called with the matrix later handed to `apply`.
 #[derive(Clone, Debug, Default)]
 pub struct Amg {
     transfers: Vec<Transfer>,
     /// Matrices of levels 1..L (level 0 is the matrix handed to `apply`).
     coarse: Vec<Csr>,
+    /// Smoothers of levels 0..L−1 (the coarsest level has its own solve).
+    smoothers: Vec<Smoother>,
     work: Vec<LevelWork>,
     dense: Option<Dense>,
+    /// Smoother of the coarsest level when coarsening stalled before it was small.
+    coarsest_smoother: Smoother,
     marker: Vec<usize>,
     pair_tmp: Csr,
     agg1: Vec<u32>,
     agg2: Vec<u32>,
+    scratch_start: Vec<u32>,
+    scratch_members: Vec<u32>,
+    /// Sparsity pattern of the finest matrix of the last setup.
+    pattern_rows: Vec<u32>,
+    pattern_cols: Vec<u32>,
+    red: Reducer,
 }
 
 impl Amg {
-    /// Builds the hierarchy for `a` (aggregation and coarse matrices).
+    /// Builds the hierarchy for `a`: aggregation, colourings and values, or only the values
+    /// when `a` has the sparsity pattern of the previous setup.
     pub fn setup(&mut self, a: &Csr) {
+        if !self.smoothers.is_empty() && self.pattern_rows == a.row_start && self.pattern_cols == a.col {
+            self.update_values(a);
+            return;
+        }
+        self.pattern_rows.clone_from(&a.row_start);
+        self.pattern_cols.clone_from(&a.col);
         self.transfers.clear();
         self.coarse.clear();
         let mut level = 0;
@@ -73,13 +115,14 @@ impl Amg {
             }
             // double pairwise: pair on the fine matrix, then pair the pairs
             let n1 = pairwise(fine, &mut self.agg1);
-            galerkin(fine, &self.agg1, n1, &mut self.pair_tmp, &mut self.marker);
+            galerkin(fine, &self.agg1, n1, &mut self.pair_tmp, &mut self.marker, &mut self.scratch_start, &mut self.scratch_members);
             let n2 = pairwise(&self.pair_tmp, &mut self.agg2);
             let mut t = Transfer::default();
             t.agg.extend(self.agg1.iter().map(|&i| self.agg2[i as usize]));
             members(&t.agg, n2, &mut t.start, &mut t.members);
             let mut c = Csr::default();
-            galerkin(&self.pair_tmp, &self.agg2, n2, &mut c, &mut self.marker);
+            coarse_pattern(fine, &mut t, n2, &mut c, &mut self.marker);
+            coarse_values(fine, &t, &mut c);
             let stalled = n2 * 10 > n * 9;
             self.transfers.push(t);
             self.coarse.push(c);
@@ -88,17 +131,44 @@ impl Amg {
                 break;
             }
         }
-        let last = if level == 0 { a } else { &self.coarse[level - 1] };
-        self.dense = if last.n <= 4 * DENSE_MAX { cholesky(last) } else { None };
-        self.work.resize_with(level + 1, LevelWork::default);
-        for k in 0..=level {
-            let n = if k == 0 { a.n } else { self.coarse[k - 1].n };
-            let nc = if k < level { self.coarse[k].n } else { 0 };
+        self.smoothers.resize_with(level, Smoother::default);
+        for k in 0..level {
+            let m = if k == 0 { a } else { &self.coarse[k - 1] };
+            self.smoothers[k].colouring.build(m);
+        }
+        let last = self.coarse.last().unwrap_or(a);
+        self.coarsest_smoother.colouring.build(last);
+        self.work.resize_with(level, LevelWork::default);
+        for k in 0..level {
+            let nc = self.coarse[k].n;
             let w = &mut self.work[k];
-            w.r.resize(n, 0.0);
-            w.tmp.resize(n, 0.0);
-            w.bc.resize(nc, 0.0);
-            w.xc.resize(nc, 0.0);
+            for v in [&mut w.bc, &mut w.xc, &mut w.v1, &mut w.v2, &mut w.w1, &mut w.w2, &mut w.rt] {
+                v.resize(nc, 0.0);
+            }
+        }
+        self.finish_values(a);
+    }
+
+    /// Coarse values of the kept aggregation for new fine values.
+    fn update_values(&mut self, a: &Csr) {
+        for k in 0..self.transfers.len() {
+            let (done, rest) = self.coarse.split_at_mut(k);
+            let fine = if k == 0 { a } else { &done[k - 1] };
+            coarse_values(fine, &self.transfers[k], &mut rest[0]);
+        }
+        self.finish_values(a);
+    }
+
+    /// Inverse diagonals and the coarsest factor.
+    fn finish_values(&mut self, a: &Csr) {
+        for k in 0..self.smoothers.len() {
+            let m = if k == 0 { a } else { &self.coarse[k - 1] };
+            inverse_diagonal(m, &mut self.smoothers[k].inv_diag);
+        }
+        let last = self.coarse.last().unwrap_or(a);
+        self.dense = if last.n <= 4 * DENSE_MAX { cholesky(last) } else { None };
+        if self.dense.is_none() {
+            inverse_diagonal(last, &mut self.coarsest_smoother.inv_diag);
         }
     }
 
@@ -109,42 +179,98 @@ impl Amg {
 
 impl Preconditioner for Amg {
     fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]) {
-        cycle(a, r, z, &self.transfers, &self.coarse, &mut self.work, self.dense.as_ref());
+        let Amg { transfers, coarse, smoothers, work, dense, coarsest_smoother, red, .. } = self;
+        let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother };
+        cycle(a, r, z, &levels, 0, work, red);
     }
 }
 
-fn cycle(a: &Csr, b: &[f64], x: &mut [f64], transfers: &[Transfer], coarse: &[Csr], work: &mut [LevelWork], dense: Option<&Dense>) {
-    let (w, rest) = work.split_first_mut().expect("one work set per level");
-    if transfers.is_empty() {
-        match dense {
-            Some(d) => d.solve(b, x),
-            None => {
-                // coarsening stalled on a large level: symmetric sweeps instead of an exact solve
-                block_gauss_seidel_from_zero(a, b, x, true);
-                for forward in [false, true, false] {
-                    w.tmp.copy_from_slice(x);
-                    block_gauss_seidel(a, b, &w.tmp, x, forward);
-                }
+/// Read-only parts of the hierarchy.
+struct Levels<'a> {
+    transfers: &'a [Transfer],
+    coarse: &'a [Csr],
+    smoothers: &'a [Smoother],
+    dense: Option<&'a Dense>,
+    coarsest: &'a Smoother,
+}
+
+/// Exact (dense) or approximate (two symmetric sweeps, when coarsening stalled) coarsest solve.
+fn coarsest(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels) {
+    match levels.dense {
+        Some(d) => d.solve(b, x),
+        None => {
+            let s = levels.coarsest;
+            sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
+            for forward in [false, true, false] {
+                sweep(a, &s.inv_diag, &s.colouring, b, x, forward);
             }
         }
+    }
+}
+
+/// x = B b, one cycle from x = 0 on level `k` (matrix `a`).
+fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mut [LevelWork], red: &mut Reducer) {
+    if k == levels.transfers.len() {
+        coarsest(a, b, x, levels);
         return;
     }
-    let t = &transfers[0];
-    block_gauss_seidel_from_zero(a, b, x, true);
-    w.r.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = b[i] - a.diag[i] * x[i] - a.row_off_diagonal(i, x));
-    let r = &w.r;
-    w.bc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(c, bc)| {
-        let mut s = 0.0;
-        for &i in &t.members[t.start[c] as usize..t.start[c + 1] as usize] {
-            s += r[i as usize];
-        }
-        *bc = s;
-    });
-    cycle(&coarse[0], &w.bc, &mut w.xc, &transfers[1..], &coarse[1..], rest, dense);
+    let t = &levels.transfers[k];
+    let s = &levels.smoothers[k];
+    let ac = &levels.coarse[k];
+    let (w, rest) = work.split_first_mut().expect("one work set per transfer");
+    sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
+    // restricted residual bc = Pᵀ(b − A x), fused (no fine residual vector)
+    {
+        let x = &*x;
+        w.bc.par_iter_mut().with_min_len(CHUNK / 4).enumerate().for_each(|(c, bc)| {
+            let mut sum = 0.0;
+            for &i in &t.members[t.start[c] as usize..t.start[c + 1] as usize] {
+                let i = i as usize;
+                sum += b[i] - a.diag[i] * x[i] - a.row_off_diagonal(i, x);
+            }
+            *bc = sum;
+        });
+    }
+    if k + 1 == levels.transfers.len() {
+        coarsest(ac, &w.bc, &mut w.xc, levels);
+    } else {
+        k_cycle_correction(ac, w, levels, k + 1, rest, red);
+    }
     let xc = &w.xc;
     x.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x += xc[t.agg[i] as usize]);
-    w.tmp.copy_from_slice(x);
-    block_gauss_seidel(a, b, &w.tmp, x, false);
+    sweep(a, &s.inv_diag, &s.colouring, b, x, false);
+}
+
+/// Coarse correction xc ≈ Aᶜ⁻¹ bc on level `k` by at most two flexible-CG steps preconditioned
+/// with the next cycle (Notay & Vassilevski 2008, Algorithm 3.1 with t = [`KCYCLE_SKIP`]).
+fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, rest: &mut [LevelWork], red: &mut Reducer) {
+    let n = ac.n;
+    let LevelWork { bc, xc, v1, v2, w1, w2, rt } = w;
+    cycle(ac, bc, v1, levels, k, rest, red);
+    ac.multiply(v1, w1);
+    let [rho1, alpha1] = red.sum2(n, |i| [v1[i] * w1[i], v1[i] * bc[i]]);
+    if rho1 <= 0.0 || !rho1.is_finite() {
+        xc.fill(0.0);
+        return;
+    }
+    let a1 = alpha1 / rho1;
+    rt.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = bc[i] - a1 * w1[i]);
+    let [rt2, bc2] = red.sum2(n, |i| [rt[i] * rt[i], bc[i] * bc[i]]);
+    if rt2 <= KCYCLE_SKIP * KCYCLE_SKIP * bc2 {
+        xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = a1 * v1[i]);
+        return;
+    }
+    cycle(ac, rt, v2, levels, k, rest, red);
+    ac.multiply(v2, w2);
+    let [gamma, beta] = red.sum2(n, |i| [v2[i] * w1[i], v2[i] * w2[i]]);
+    let alpha2 = red.sum(n, |i| v2[i] * rt[i]);
+    let rho2 = beta - gamma * gamma / rho1;
+    if rho2 <= 0.0 || !rho2.is_finite() {
+        xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = a1 * v1[i]);
+        return;
+    }
+    let (c1, c2) = (a1 - gamma * alpha2 / (rho1 * rho2), alpha2 / rho2);
+    xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = c1 * v1[i] + c2 * v2[i]);
 }
 
 /// Greedy pairwise aggregation in row order: each unaggregated row pairs with its strongest
@@ -189,17 +315,80 @@ fn members(agg: &[u32], nc: usize, start: &mut Vec<u32>, members: &mut Vec<u32>)
     }
     members.clear();
     members.resize(agg.len(), 0);
-    let mut fill: Vec<u32> = start[..nc].to_vec();
+    // fill pointers kept in start[c] (shifted back afterwards): no scratch allocation
     for (i, &c) in agg.iter().enumerate() {
-        members[fill[c as usize] as usize] = i as u32;
-        fill[c as usize] += 1;
+        members[start[c as usize] as usize] = i as u32;
+        start[c as usize] += 1;
     }
+    for c in (1..=nc).rev() {
+        start[c] = start[c - 1];
+    }
+    start[0] = 0;
+}
+
+/// Sparsity of Aᶜ = PᵀAP and the fine-entry → coarse-entry map of `t` (coarse columns in
+/// order of first appearance over the members' rows).
+fn coarse_pattern(a: &Csr, t: &mut Transfer, nc: usize, out: &mut Csr, marker: &mut Vec<usize>) {
+    out.n = nc;
+    out.row_start.clear();
+    out.row_start.push(0);
+    out.col.clear();
+    t.entry_map.clear();
+    t.entry_map.resize(a.col.len(), NONE);
+    marker.clear();
+    marker.resize(nc, usize::MAX);
+    for big_i in 0..nc {
+        let row_begin = out.col.len();
+        for &i in &t.members[t.start[big_i] as usize..t.start[big_i + 1] as usize] {
+            let i = i as usize;
+            for k in a.row_start[i] as usize..a.row_start[i + 1] as usize {
+                let big_j = t.agg[a.col[k] as usize] as usize;
+                if big_j == big_i {
+                    continue;
+                }
+                if marker[big_j] == usize::MAX || marker[big_j] < row_begin {
+                    marker[big_j] = out.col.len();
+                    out.col.push(big_j as u32);
+                }
+                t.entry_map[k] = marker[big_j] as u32;
+            }
+        }
+        out.row_start.push(out.col.len() as u32);
+    }
+    out.val.clear();
+    out.val.resize(out.col.len(), 0.0);
+    out.diag.clear();
+    out.diag.resize(nc, 0.0);
+}
+
+/// Values of Aᶜ = PᵀAP on the pattern of [`coarse_pattern`]; each coarse row sums its members'
+/// entries in member and entry order (one task per coarse row: thread-count independent).
+fn coarse_values(a: &Csr, t: &Transfer, out: &mut Csr) {
+    let (od, ov) = (Out::of(&mut out.diag), Out::of(&mut out.val));
+    let (rs, nc) = (&out.row_start, out.n);
+    (0..nc).into_par_iter().with_min_len(CHUNK / 4).for_each(|big_i| {
+        let (lo, hi) = (rs[big_i] as usize, rs[big_i + 1] as usize);
+        // SAFETY: coarse row big_i owns diag[big_i] and val[lo..hi]; no other task touches them
+        let row = unsafe { std::slice::from_raw_parts_mut(ov.ptr(lo), hi - lo) };
+        row.fill(0.0);
+        let mut d = 0.0;
+        for &i in &t.members[t.start[big_i] as usize..t.start[big_i + 1] as usize] {
+            let i = i as usize;
+            d += a.diag[i];
+            for k in a.row_start[i] as usize..a.row_start[i + 1] as usize {
+                match t.entry_map[k] {
+                    NONE => d += a.val[k],
+                    m => row[m as usize - lo] += a.val[k],
+                }
+            }
+        }
+        unsafe { od.set(big_i, d) };
+    });
 }
 
 /// Aᶜ = PᵀAP for the piecewise-constant prolongation of `agg`.
-fn galerkin(a: &Csr, agg: &[u32], nc: usize, out: &mut Csr, marker: &mut Vec<usize>) {
-    let (mut start, mut mem) = (Vec::new(), Vec::new());
-    members(agg, nc, &mut start, &mut mem);
+fn galerkin(a: &Csr, agg: &[u32], nc: usize, out: &mut Csr, marker: &mut Vec<usize>, start: &mut Vec<u32>, mem: &mut Vec<u32>) {
+    members(agg, nc, start, mem);
     out.n = nc;
     out.row_start.clear();
     out.row_start.push(0);

@@ -15,6 +15,29 @@ pub mod smoother;
 
 pub use csr::Csr;
 
+/// Raw pointer for disjoint parallel writes (index i is written by exactly one task).
+#[derive(Clone, Copy)]
+pub struct Out<T>(pub *mut T);
+unsafe impl<T> Send for Out<T> {}
+unsafe impl<T> Sync for Out<T> {}
+impl<T> Out<T> {
+    pub fn of(v: &mut [T]) -> Self {
+        Out(v.as_mut_ptr())
+    }
+    /// # Safety
+    /// As [`Out::set`].
+    #[inline]
+    pub unsafe fn ptr(self, i: usize) -> *mut T {
+        self.0.add(i)
+    }
+    /// # Safety
+    /// `i` in bounds and written by one task only.
+    #[inline]
+    pub unsafe fn set(self, i: usize, value: T) {
+        *self.0.add(i) = value;
+    }
+}
+
 /// Outcome of one iterative solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolveStats {

@@ -1,4 +1,8 @@
-//! Preconditioned conjugate gradients for the symmetric positive definite pressure equation.
+//! Flexible preconditioned conjugate gradients (FCG(1), Notay 2000) for the symmetric positive
+//! definite pressure equation: β = z_{k+1}·(r_{k+1} − r_k)/(z_k·r_k) (Polak–Ribière form), which
+//! equals the classical β for a fixed SPD preconditioner and keeps CG convergent when the
+//! preconditioner varies slightly between iterations (the K-cycle AMG of [`super::amg`] is a
+//! nonlinear operator: its inner Krylov steps depend on the residual).
 
 use rayon::prelude::*;
 
@@ -67,8 +71,9 @@ impl Pcg {
                 break;
             }
             m.apply(a, r, z);
-            let rz_new = red.sum(n, |i| r[i] * z[i]);
-            let beta = rz_new / rz;
+            // r_{k+1} − r_k = −α q, so z_{k+1}·(r_{k+1} − r_k) = −α z_{k+1}·q
+            let [rz_new, zq] = red.sum2(n, |i| [r[i] * z[i], z[i] * q[i]]);
+            let beta = -alpha * zq / rz;
             rz = rz_new;
             p.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, p)| *p = z[i] + beta * *p);
         }
