@@ -75,6 +75,7 @@ fn run(a: &Csr, b: &[f64]) {
         iterations += s.iterations;
         eprintln!("solve {r}: {} iterations, residual {:.2e}, {:.2} ms", s.iterations, s.final_residual, dt * 1e3);
     }
+    eprintln!("levels (rows, off-diagonals, colours): {:?}", amg.level_sizes());
     println!(
         "{} cells, {} levels, first setup {:.2} ms, mean setup+solve {:.2} ms, {:.1} iterations, {:.1} ns per cell-iteration",
         a.n,

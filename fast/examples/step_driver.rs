@@ -53,8 +53,19 @@ fn run(kind: &str, n: usize, steps: usize, cells: usize, solver: &mut FastFluid)
         let c = solver.last_counts();
         p_it += c.pressure_iterations;
         m_it += c.momentum_iterations;
-        eprintln!("{:?}", c);
+        eprintln!(
+            "step {:.1} ms: pressure {:.1} ms ({} it {:?}), AMG setup {:.1} ms, momentum {:.1} ms ({} it), rest {:.1} ms",
+            c.step_seconds * 1e3,
+            c.pressure_seconds * 1e3,
+            c.pressure_iterations,
+            &c.pressure_per_solve[..c.pressure_solves.min(12)],
+            c.amg_setup_seconds * 1e3,
+            c.momentum_seconds * 1e3,
+            c.momentum_iterations,
+            (c.step_seconds - c.pressure_seconds - c.amg_setup_seconds - c.momentum_seconds) * 1e3
+        );
     }
+    eprintln!("pressure levels (rows, off-diagonals, colours): {:?}", solver.pressure_levels());
     let per = t1.elapsed().as_secs_f64() / steps as f64;
     println!(
         "{kind} {n}: {cells} cells, warm-up {:.1} ms/step, {:.2} ms/step = {:.2} µs/cell-step; per step {:.1} pressure and {:.1} momentum iterations",

@@ -3,19 +3,17 @@
 //! reference's accumulation order), so each cell's value is computed by one thread in a fixed
 //! order and the result is independent of the thread count.
 
-use rayon::prelude::*;
 use spillage_model::fluid::settings::ConvectionScheme;
 use spillage_model::mesh::Vec3;
 
 use super::layout::{Adjacency, Boundary, Links};
-use crate::linear::reduce::CHUNK;
 
 pub use crate::linear::Out;
 
 /// Runs `f(c)` for every index in parallel (minimum [`CHUNK`] per task).
 #[inline]
 pub fn par_for(n: usize, f: impl Fn(usize) + Sync + Send) {
-    (0..n).into_par_iter().with_min_len(CHUNK).for_each(f);
+    crate::linear::par_range(n, f);
 }
 
 #[inline]

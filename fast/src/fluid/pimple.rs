@@ -17,7 +17,7 @@ use crate::linear::amg::Amg;
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::pcg::{normalisation, Pcg};
 use crate::linear::reduce::Reducer;
-use crate::linear::{Csr, Jacobi, Tolerance};
+use crate::linear::{par_update, Csr, Jacobi, Tolerance};
 
 /// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
 /// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
@@ -65,6 +65,12 @@ pub struct SolveCounts {
     pub momentum_iterations: usize,
     /// Iterations of the first [`SolveCounts::PER_SOLVE`] pressure solves of the step, in order.
     pub pressure_per_solve: [u16; SolveCounts::PER_SOLVE],
+    /// Wall-clock seconds of the step in the multigrid setup, the pressure solves and the
+    /// momentum solves (for the benchmark's breakdown; never used by the algorithm).
+    pub amg_setup_seconds: f64,
+    pub pressure_seconds: f64,
+    pub momentum_seconds: f64,
+    pub step_seconds: f64,
 }
 
 impl SolveCounts {
@@ -268,6 +274,11 @@ impl FastFluid {
         self.settings
     }
 
+    /// (rows, off-diagonal entries, colours) of the pressure multigrid levels (diagnostics).
+    pub fn pressure_levels(&self) -> Vec<(usize, usize, usize)> {
+        self.amg.level_sizes()
+    }
+
     /// Iteration counts of the last step.
     pub fn last_counts(&self) -> SolveCounts {
         self.counts
@@ -335,6 +346,13 @@ impl FastFluid {
     }
 
     fn advance(&mut self) -> Result<StepReport, SolverError> {
+        let clock = std::time::Instant::now();
+        let report = self.advance_inner();
+        self.counts.step_seconds = clock.elapsed().as_secs_f64();
+        report
+    }
+
+    fn advance_inner(&mut self) -> Result<StepReport, SolverError> {
         let dt = self.dt;
         let tc = self.time_coefficients();
         // step 2: turn the rotor, update the moving geometry in place, rebuild the overlaps
@@ -563,8 +581,10 @@ impl FastFluid {
                 continue;
             }
             let (src, gp, vol) = (&w.source, &w.grad_p, &self.mesh.cell_volumes);
-            w.rhs[j].par_iter_mut().with_min_len(crate::linear::reduce::CHUNK).enumerate().for_each(|(c, r)| *r = src[c][j] - vol[c] * gp[c][j]);
+            par_update(&mut w.rhs[j][..], |c, r| *r = src[c][j] - vol[c] * gp[c][j]);
+            let clock = std::time::Instant::now();
             let stats = self.bicg.solve(&w.mom, &w.rhs[j], &mut w.u[j], &mut Jacobi, self.settings.momentum);
+            self.counts.momentum_seconds += clock.elapsed().as_secs_f64();
             self.counts.momentum_iterations += stats.iterations;
             if !stats.final_residual.is_finite() {
                 return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): residual not finite")));
@@ -621,7 +641,7 @@ impl FastFluid {
                 }
             }
             let (vol, diag) = (&self.mesh.cell_volumes, &w.mom.diag);
-            w.rau.par_iter_mut().enumerate().for_each(|(c, r)| *r = vol[c] / diag[c]);
+            par_update(&mut w.rau[..], |c, r| *r = vol[c] / diag[c]);
             for b in 0..nb {
                 if !w.prescribed[b].is_nan() {
                     w.boundary_flux[b] = w.prescribed[b];
@@ -705,8 +725,12 @@ impl FastFluid {
             }
             // the aggregation is rebuilt only when the sparsity pattern changed (the overlap
             // links moved); otherwise only the hierarchy's values follow the new matrix
+            let clock = std::time::Instant::now();
             self.amg.setup(&w.pres);
+            self.counts.amg_setup_seconds += clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
             let stats = self.pcg.solve(&w.pres, &w.prhs, &mut w.p_work, &mut self.amg, self.settings.pressure);
+            self.counts.pressure_seconds += clock.elapsed().as_secs_f64();
             if let Some(slot) = self.counts.pressure_per_solve.get_mut(self.counts.pressure_solves) {
                 *slot = stats.iterations.min(u16::MAX as usize) as u16;
             }
@@ -726,7 +750,7 @@ impl FastFluid {
             let links = &self.links;
             let w = &mut self.w;
             let (rau, pw, lh) = (&w.rau, &w.p_work, &w.link_h);
-            w.link_flux.par_iter_mut().with_min_len(crate::linear::reduce::CHUNK).enumerate().for_each(|(l, f)| {
+            par_update(&mut w.link_flux[..], |l, f| {
                 let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
                 let rau_f = links.interpolate(l, rau[p], rau[q]);
                 *f = lh[l] - rau_f * links.laplacian[l] * (pw[q] - pw[p]);
@@ -740,7 +764,7 @@ impl FastFluid {
             }
             let relax = self.numerics.relax_pressure;
             let (ps, pw) = (&w.p_start, &w.p_work);
-            w.p.par_iter_mut().enumerate().for_each(|(c, p)| *p = ps[c] + relax * (pw[c] - ps[c]));
+            par_update(&mut w.p[..], |c, p| *p = ps[c] + relax * (pw[c] - ps[c]));
         }
         self.boundary_pressures(&self.w.p, &mut p_b);
         let w = &mut self.w;
@@ -749,7 +773,7 @@ impl FastFluid {
         for j in 0..3 {
             let (h, r, g) = (&w.hbya, &w.rau, &w.grad_p);
             let solved = self.solved[j];
-            w.u[j].par_iter_mut().enumerate().for_each(|(c, u)| *u = if solved { h[c][j] - r[c] * g[c][j] } else { 0.0 });
+            par_update(&mut w.u[j][..], |c, u| *u = if solved { h[c][j] - r[c] * g[c][j] } else { 0.0 });
         }
         Ok(initial_residual)
     }

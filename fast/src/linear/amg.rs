@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use super::csr::Csr;
 use super::reduce::{Reducer, CHUNK};
 use super::smoother::{inverse_diagonal, sweep, sweep_from_zero, Colouring};
-use super::{Out, Preconditioner};
+use super::{par_update, Out, Preconditioner};
 
 /// Coarsest level size solved by dense Cholesky.
 const DENSE_MAX: usize = 64;
@@ -172,6 +172,18 @@ impl Amg {
         }
     }
 
+    /// (rows, off-diagonal entries, colours) of every level but the coarsest.
+    pub fn level_sizes(&self) -> Vec<(usize, usize, usize)> {
+        self.smoothers
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let (n, nnz) = if k == 0 { (self.pattern_rows.len() - 1, self.pattern_cols.len()) } else { (self.coarse[k - 1].n, self.coarse[k - 1].col.len()) };
+                (n, nnz, s.colouring.colours())
+            })
+            .collect()
+    }
+
     pub fn levels(&self) -> usize {
         self.coarse.len() + 1
     }
@@ -222,7 +234,7 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
     // restricted residual bc = Pᵀ(b − A x), fused (no fine residual vector)
     {
         let x = &*x;
-        w.bc.par_iter_mut().with_min_len(CHUNK / 4).enumerate().for_each(|(c, bc)| {
+        par_update(&mut w.bc[..], |c, bc| {
             let mut sum = 0.0;
             for &i in &t.members[t.start[c] as usize..t.start[c + 1] as usize] {
                 let i = i as usize;
@@ -237,7 +249,7 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
         k_cycle_correction(ac, w, levels, k + 1, rest, red);
     }
     let xc = &w.xc;
-    x.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x += xc[t.agg[i] as usize]);
+    par_update(&mut x[..], |i, x| *x += xc[t.agg[i] as usize]);
     sweep(a, &s.inv_diag, &s.colouring, b, x, false);
 }
 
@@ -254,10 +266,10 @@ fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, re
         return;
     }
     let a1 = alpha1 / rho1;
-    rt.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = bc[i] - a1 * w1[i]);
+    par_update(&mut rt[..], |i, r| *r = bc[i] - a1 * w1[i]);
     let [rt2, bc2] = red.sum2(n, |i| [rt[i] * rt[i], bc[i] * bc[i]]);
     if rt2 <= KCYCLE_SKIP * KCYCLE_SKIP * bc2 {
-        xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = a1 * v1[i]);
+        par_update(&mut xc[..], |i, x| *x = a1 * v1[i]);
         return;
     }
     cycle(ac, rt, v2, levels, k, rest, red);
@@ -266,11 +278,11 @@ fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, re
     let alpha2 = red.sum(n, |i| v2[i] * rt[i]);
     let rho2 = beta - gamma * gamma / rho1;
     if rho2 <= 0.0 || !rho2.is_finite() {
-        xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = a1 * v1[i]);
+        par_update(&mut xc[..], |i, x| *x = a1 * v1[i]);
         return;
     }
     let (c1, c2) = (a1 - gamma * alpha2 / (rho1 * rho2), alpha2 / rho2);
-    xc.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x = c1 * v1[i] + c2 * v2[i]);
+    par_update(&mut xc[..], |i, x| *x = c1 * v1[i] + c2 * v2[i]);
 }
 
 /// Greedy pairwise aggregation in row order: each unaggregated row pairs with its strongest

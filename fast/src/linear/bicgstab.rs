@@ -1,11 +1,10 @@
 //! Right-preconditioned BiCGStab (van der Vorst 1992) for the non-symmetric momentum equation.
 
-use rayon::prelude::*;
 
 use super::csr::Csr;
 use super::pcg::normalisation;
-use super::reduce::{Reducer, CHUNK};
-use super::{Preconditioner, SolveStats, Tolerance};
+use super::reduce::Reducer;
+use super::{par_update, Preconditioner, SolveStats, Tolerance};
 
 #[derive(Clone, Debug, Default)]
 pub struct BiCgStab {
@@ -30,7 +29,7 @@ impl BiCgStab {
         let BiCgStab { r, r0, p, v, s, t, y, zs, red } = self;
         a.multiply(x, t);
         let norm = normalisation(a, b, x, t, red);
-        r.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = b[i] - t[i]);
+        par_update(&mut r[..], |i, r| *r = b[i] - t[i]);
         let mut residual = red.sum(n, |i| r[i].abs()) / norm;
         let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
         if residual < tol.tolerance {
@@ -48,7 +47,7 @@ impl BiCgStab {
             }
             let beta = (rho_new / rho) * (alpha / omega);
             rho = rho_new;
-            p.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, p)| *p = r[i] + beta * (*p - omega * v[i]));
+            par_update(&mut p[..], |i, p| *p = r[i] + beta * (*p - omega * v[i]));
             m.apply(a, p, y);
             a.multiply(y, v);
             let r0v = red.sum(n, |i| r0[i] * v[i]);
@@ -56,10 +55,10 @@ impl BiCgStab {
                 break;
             }
             alpha = rho / r0v;
-            s.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, s)| *s = r[i] - alpha * v[i]);
+            par_update(&mut s[..], |i, s| *s = r[i] - alpha * v[i]);
             let s_res = red.sum(n, |i| s[i].abs()) / norm;
             if s_res < tol.tolerance {
-                x.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x += alpha * y[i]);
+                par_update(&mut x[..], |i, x| *x += alpha * y[i]);
                 residual = s_res;
                 break;
             }
@@ -70,8 +69,8 @@ impl BiCgStab {
                 break;
             }
             omega = ts / tt;
-            x.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, x)| *x += alpha * y[i] + omega * zs[i]);
-            r.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = s[i] - omega * t[i]);
+            par_update(&mut x[..], |i, x| *x += alpha * y[i] + omega * zs[i]);
+            par_update(&mut r[..], |i, r| *r = s[i] - omega * t[i]);
             residual = red.sum(n, |i| r[i].abs()) / norm;
             if residual < tol.tolerance || omega == 0.0 {
                 break;

@@ -1,9 +1,8 @@
 //! Square sparse matrix in compressed-row form with the diagonal kept apart (the PISO algorithm
 //! reads A, the diagonal, on its own).
 
-use rayon::prelude::*;
 
-use super::reduce::CHUNK;
+use super::par_update;
 
 #[derive(Clone, Debug, Default)]
 pub struct Csr {
@@ -17,24 +16,24 @@ pub struct Csr {
 
 impl Csr {
     /// Σ_j a_rj x_j over the off-diagonal entries of row r.
-    #[inline]
+    #[inline(always)]
     pub fn row_off_diagonal(&self, r: usize, x: &[f64]) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
         let mut s = 0.0;
-        for k in lo..hi {
-            s += self.val[k] * x[self.col[k] as usize];
+        for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
+            s += v * x[c as usize];
         }
         s
     }
 
     /// y = A x.
     pub fn multiply(&self, x: &[f64], y: &mut [f64]) {
-        y.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(r, y)| *y = self.diag[r] * x[r] + self.row_off_diagonal(r, x));
+        par_update(&mut y[..], |r, y| *y = self.diag[r] * x[r] + self.row_off_diagonal(r, x));
     }
 
     /// y = (A − D) x.
     pub fn multiply_off_diagonal(&self, x: &[f64], y: &mut [f64]) {
-        y.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(r, y)| *y = self.row_off_diagonal(r, x));
+        par_update(&mut y[..], |r, y| *y = self.row_off_diagonal(r, x));
     }
 
     /// Row sums Σ_j a_rj (diagonal included): A·1.

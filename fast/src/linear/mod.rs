@@ -38,6 +38,43 @@ impl<T> Out<T> {
     }
 }
 
+/// f(i, &mut out[i]) for every i, in parallel over fixed chunks of [`reduce::CHUNK`] entries
+/// with a plain loop inside each chunk (no per-entry call through the parallel iterator, so the
+/// loop body inlines and vectorises); a single chunk runs on the calling thread without rayon.
+#[inline]
+pub fn par_update<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+    use rayon::prelude::*;
+    let chunk = reduce::CHUNK;
+    if out.len() <= chunk {
+        for (i, y) in out.iter_mut().enumerate() {
+            f(i, y);
+        }
+        return;
+    }
+    out.par_chunks_mut(chunk).enumerate().for_each(|(k, ys)| {
+        let base = k * chunk;
+        for (i, y) in ys.iter_mut().enumerate() {
+            f(base + i, y);
+        }
+    });
+}
+
+/// f(i) for every i < n, chunked as [`par_update`] (for loops that write through [`Out`]).
+#[inline]
+pub fn par_range(n: usize, f: impl Fn(usize) + Sync + Send) {
+    use rayon::prelude::*;
+    let chunk = reduce::CHUNK;
+    if n <= chunk {
+        (0..n).for_each(f);
+        return;
+    }
+    (0..n.div_ceil(chunk)).into_par_iter().for_each(|k| {
+        for i in k * chunk..((k + 1) * chunk).min(n) {
+            f(i);
+        }
+    });
+}
+
 /// Outcome of one iterative solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolveStats {
@@ -67,11 +104,6 @@ pub struct Jacobi;
 
 impl Preconditioner for Jacobi {
     fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]) {
-        use rayon::prelude::*;
-        z.par_iter_mut()
-            .with_min_len(reduce::CHUNK)
-            .zip(r.par_iter().with_min_len(reduce::CHUNK))
-            .zip(a.diag.par_iter().with_min_len(reduce::CHUNK))
-            .for_each(|((z, r), d)| *z = r / d);
+        par_update(z, |i, z| *z = r[i] / a.diag[i]);
     }
 }

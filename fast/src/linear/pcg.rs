@@ -4,11 +4,10 @@
 //! preconditioner varies slightly between iterations (the K-cycle AMG of [`super::amg`] is a
 //! nonlinear operator: its inner Krylov steps depend on the residual).
 
-use rayon::prelude::*;
 
 use super::csr::Csr;
-use super::reduce::{Reducer, CHUNK};
-use super::{Preconditioner, SolveStats, Tolerance};
+use super::reduce::Reducer;
+use super::{par_update, Out, Preconditioner, SolveStats, Tolerance};
 
 /// Work vectors of CG (kept between solves: no allocation once sized).
 #[derive(Clone, Debug, Default)]
@@ -45,7 +44,7 @@ impl Pcg {
         let Pcg { r, z, p, q, red } = self;
         a.multiply(x, q);
         let norm = normalisation(a, b, x, q, red);
-        r.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, r)| *r = b[i] - q[i]);
+        par_update(&mut r[..], |i, r| *r = b[i] - q[i]);
         let mut residual = red.sum(n, |i| r[i].abs()) / norm;
         let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
         if residual < tol.tolerance {
@@ -62,11 +61,17 @@ impl Pcg {
                 break;
             }
             let alpha = rz / pq;
-            x.par_iter_mut().with_min_len(CHUNK).zip(r.par_iter_mut().with_min_len(CHUNK)).enumerate().for_each(|(i, (x, r))| {
-                *x += alpha * p[i];
-                *r -= alpha * q[i];
-            });
-            residual = red.sum(n, |i| r[i].abs()) / norm;
+            // update and residual norm in one pass (the reduction's fixed chunks visit every
+            // entry exactly once, so the writes are disjoint)
+            let (xo, ro) = (Out::of(x), Out::of(r));
+            let (pr, qr) = (&*p, &*q);
+            residual = red.sum(n, |i| unsafe {
+                // SAFETY: entry i of x and r is written by this task only
+                *xo.ptr(i) += alpha * pr[i];
+                let ri = *ro.ptr(i) - alpha * qr[i];
+                *ro.ptr(i) = ri;
+                ri.abs()
+            }) / norm;
             if residual < tol.tolerance {
                 break;
             }
@@ -75,7 +80,7 @@ impl Pcg {
             let [rz_new, zq] = red.sum2(n, |i| [r[i] * z[i], z[i] * q[i]]);
             let beta = -alpha * zq / rz;
             rz = rz_new;
-            p.par_iter_mut().with_min_len(CHUNK).enumerate().for_each(|(i, p)| *p = z[i] + beta * *p);
+            par_update(&mut p[..], |i, p| *p = z[i] + beta * *p);
         }
         stats.final_residual = residual;
         stats

@@ -7,11 +7,9 @@
 //! the Poisson equation at least as well as the lexicographic sweep; there is no sequential
 //! dependency chain from row to row, and no division (the inverse diagonal is stored).
 
-use rayon::prelude::*;
 
 use super::csr::Csr;
-use super::reduce::CHUNK;
-use super::Out;
+use super::{par_range, par_update, Out};
 
 /// Rows grouped by colour: colour k holds rows `order[start[k]..start[k + 1]]` (ascending).
 #[derive(Clone, Debug, Default)]
@@ -72,7 +70,7 @@ impl Colouring {
 /// 1/diag of `a` into `inv`.
 pub fn inverse_diagonal(a: &Csr, inv: &mut Vec<f64>) {
     inv.resize(a.n, 0.0);
-    inv.par_iter_mut().with_min_len(CHUNK).zip(a.diag.par_iter()).for_each(|(i, d)| *i = 1.0 / d);
+    par_update(&mut inv[..], |i, v| *v = 1.0 / a.diag[i]);
 }
 
 /// One Gauss–Seidel sweep on A x = b in colour order (`forward`) or reverse colour order,
@@ -84,8 +82,8 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mu
     for step in 0..n_colours {
         let k = if forward { step } else { n_colours - 1 - step };
         let rows = &colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize];
-        rows.par_iter().with_min_len(CHUNK).for_each(|&r| {
-            let r = r as usize;
+        par_range(rows.len(), |i| {
+            let r = rows[i] as usize;
             let (lo, hi) = (a.row_start[r] as usize, a.row_start[r + 1] as usize);
             let mut s = b[r];
             for (&c, &v) in a.col[lo..hi].iter().zip(&a.val[lo..hi]) {
@@ -101,7 +99,7 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mu
 
 /// Forward sweep from x = 0.
 pub fn sweep_from_zero(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mut [f64]) {
-    x.par_iter_mut().with_min_len(CHUNK).for_each(|v| *v = 0.0);
+    par_update(x, |_, v| *v = 0.0);
     sweep(a, inv_diag, colouring, b, x, true);
 }
 
