@@ -136,6 +136,8 @@ pub struct FastFluid {
     /// Internal faces of the rotor zone (their geometry is updated in place every step).
     moving_faces: Vec<usize>,
     links: Links,
+    /// Overlap buffer of the sliding interfaces (reused every step).
+    overlaps: Vec<spillage_model::mesh::Overlap>,
     boundary: Boundary,
     adj: Adjacency,
     solved: [bool; 3],
@@ -249,6 +251,7 @@ impl FastFluid {
             in_rotor,
             moving_faces,
             links,
+            overlaps: Vec::new(),
             boundary,
             adj: Adjacency::default(),
             solved,
@@ -290,7 +293,7 @@ impl FastFluid {
         if let Some(frame) = &self.frame {
             for interface in &self.mesh.interfaces {
                 let angle = self.mesh.zones[interface.rotor_zone].rotation.as_ref().map_or(0.0, |r| r.angle);
-                push_overlaps(&self.mesh, interface, frame, angle, self.rotor.as_ref(), &mut self.links);
+                push_overlaps(&self.mesh, interface, frame, angle, self.rotor.as_ref(), &mut self.overlaps, &mut self.links);
             }
         }
         self.adj.rebuild(self.mesh.n_cells(), &self.links);

@@ -46,6 +46,13 @@ pub struct Overlap {
     pub rotor_fraction: f64,
     /// Overlap / stator face width: weight of the rotor value in the stator face value.
     pub stator_fraction: f64,
+    /// Shared z layer of the two faces (index into the layers of `z_edges`).
+    pub layer: usize,
+    /// θ bounds of the overlap (rad, in the stator's frame: the rotor's edges turned by the
+    /// rotor angle), `theta_lo < theta_hi`; they may lie up to 2π beyond the stator's first edge
+    /// (the sweep runs from the turned rotor's first edge around once).
+    pub theta_lo: f64,
+    pub theta_hi: f64,
 }
 
 /// Overlap of source interval `source` and target interval `target` of a 1-D interface.
@@ -147,13 +154,13 @@ pub fn map_to_source(overlaps: &[Overlap1d], target_values: &[f64], n_source: us
 }
 
 /// Merge sweep of two periodic partitions of the circle, the rotor one turned by `angle`.
-/// Calls `emit(rotor index, stator index, rotor_fraction, stator_fraction)` for every
-/// overlap of positive length, in order of increasing θ starting at the rotor's first edge.
+/// Calls `emit(rotor index, stator index, rotor_fraction, stator_fraction, θ_lo, θ_hi)` for
+/// every overlap of positive length, in order of increasing θ starting at the rotor's first edge.
 fn periodic_sweep(
     rotor_edges: &[f64],
     stator_edges: &[f64],
     angle: f64,
-    mut emit: impl FnMut(usize, usize, f64, f64),
+    mut emit: impl FnMut(usize, usize, f64, f64, f64, f64),
 ) {
     let (n_r, n_s) = (rotor_edges.len() - 1, stator_edges.len() - 1);
     // Reduce the angle so values stay within a few 2π (their round-off bounds the error).
@@ -182,7 +189,7 @@ fn periodic_sweep(
             let rotor_width = rotor_end - rotor(i);
             let stator_width = stator_end - stator(m);
             let j = m.rem_euclid(n_s as i64) as usize;
-            emit(i, j, length / rotor_width, length / stator_width);
+            emit(i, j, length / rotor_width, length / stator_width, current, end);
         }
         current = current.max(end);
         if stator_end <= rotor_end {
@@ -223,12 +230,15 @@ impl SlidingInterface {
                 &self.rotor_theta_edges,
                 &self.stator_theta_edges,
                 rotor_angle,
-                |i, j, rotor_fraction, stator_fraction| {
+                |i, j, rotor_fraction, stator_fraction, theta_lo, theta_hi| {
                     out.push(Overlap {
                         rotor_face: rotor_faces[i],
                         stator_face: stator_faces[j],
                         rotor_fraction,
                         stator_fraction,
+                        layer,
+                        theta_lo,
+                        theta_hi,
                     })
                 },
             );
@@ -330,6 +340,47 @@ mod tests {
             .fold(0.0, f64::max);
         let cover_error = covered.iter().map(|c| (c - TAU).abs()).fold(0.0, f64::max);
         (fraction_error, cover_error)
+    }
+
+    /// The θ bounds of each layer's overlaps tile one full turn from the turned rotor's first
+    /// edge, each overlap's width equals its fractions times its faces' widths, and each bound
+    /// lies inside both faces' θ intervals (taken modulo 2π).
+    #[test]
+    fn theta_bounds_tile_the_turn_and_match_the_fractions() {
+        let mut out = Vec::new();
+        for (n_rotor, n_stator) in [(32, 48), (7, 5)] {
+            let i = interface(n_rotor, n_stator, 2);
+            let (w_r, w_s) = (TAU / n_rotor as f64, TAU / n_stator as f64);
+            for angle in [0.0, 0.3, -1.7, 12.345] {
+                i.overlaps_into(angle, &mut out);
+                let start = angle.rem_euclid(TAU);
+                for layer in out.chunk_by(|a, b| a.layer == b.layer) {
+                    assert_eq!(layer[0].rotor_face / n_rotor, layer[0].layer);
+                    // round-off of the breakpoints (magnitude ≤ 4π): a few ε·4π
+                    let eps = 1e-13;
+                    assert!((layer[0].theta_lo - start).abs() < eps);
+                    assert!((layer[layer.len() - 1].theta_hi - (start + TAU)).abs() < eps);
+                    for w in layer.windows(2) {
+                        assert_eq!(w[0].theta_hi, w[1].theta_lo, "overlaps are contiguous");
+                    }
+                    for o in layer {
+                        let width = o.theta_hi - o.theta_lo;
+                        assert!(width > 0.0);
+                        assert!((width - o.rotor_fraction * w_r).abs() < eps, "{o:?}");
+                        assert!((width - o.stator_fraction * w_s).abs() < eps, "{o:?}");
+                        if width < 1e-9 {
+                            continue; // a round-off sliver at coinciding edges: its midpoint
+                                      // sits on a face edge, so the index test is ambiguous
+                        }
+                        let mid = 0.5 * (o.theta_lo + o.theta_hi);
+                        let j_s = (mid.rem_euclid(TAU) / w_s) as usize;
+                        let j_r = ((mid - angle).rem_euclid(TAU) / w_r) as usize;
+                        assert_eq!(o.stator_face - 1000, (o.stator_face - 1000) / n_stator * n_stator + j_s);
+                        assert_eq!(o.rotor_face, o.rotor_face / n_rotor * n_rotor + j_r);
+                    }
+                }
+            }
+        }
     }
 
     #[test]
