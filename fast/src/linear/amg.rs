@@ -91,7 +91,7 @@ pub struct Amg {
     /// Sparsity pattern of the finest matrix of the last setup.
     pattern_rows: Vec<u32>,
     pattern_cols: Vec<u32>,
-    red: Reducer,
+    ctx: Ctx,
 }
 
 impl Amg {
@@ -184,6 +184,15 @@ impl Amg {
             .collect()
     }
 
+    /// Bytes streamed by all `apply` calls so far: every array a kernel touches counted once
+    /// per pass (matrix rows 12 B per off-diagonal + 4 B row start + 8 B diagonal, 8 B per
+    /// vector entry read or written, 4 B per index), i.e. the traffic with perfect reuse of the
+    /// gathered x entries within a pass and none between passes — what a bandwidth-bound
+    /// implementation must move.
+    pub fn bytes_streamed(&self) -> f64 {
+        self.ctx.bytes
+    }
+
     pub fn levels(&self) -> usize {
         self.coarse.len() + 1
     }
@@ -191,10 +200,30 @@ impl Amg {
 
 impl Preconditioner for Amg {
     fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]) {
-        let Amg { transfers, coarse, smoothers, work, dense, coarsest_smoother, red, .. } = self;
+        let Amg { transfers, coarse, smoothers, work, dense, coarsest_smoother, ctx, .. } = self;
         let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother };
-        cycle(a, r, z, &levels, 0, work, red);
+        cycle(a, r, z, &levels, 0, work, ctx);
     }
+}
+
+/// Mutable state threaded through the cycle: the reduction buffer and the byte tally.
+#[derive(Clone, Debug, Default)]
+struct Ctx {
+    red: Reducer,
+    /// Bytes the executed kernels stream (each array a kernel touches counted once per pass:
+    /// the compulsory traffic, see [`Amg::bytes_streamed`]).
+    bytes: f64,
+}
+
+/// Bytes of a matrix pass: row starts, columns, values and diagonal.
+fn matrix_bytes(a: &Csr) -> f64 {
+    (12 * a.col.len() + 4 * (a.n + 1) + 8 * a.n) as f64
+}
+
+/// A multicolour sweep: the matrix without its diagonal, the colour order, b, 1/diag and x read
+/// and written.
+fn sweep_bytes(a: &Csr) -> f64 {
+    matrix_bytes(a) - 8.0 * a.n as f64 + 36.0 * a.n as f64
 }
 
 /// Read-only parts of the hierarchy.
@@ -207,11 +236,15 @@ struct Levels<'a> {
 }
 
 /// Exact (dense) or approximate (two symmetric sweeps, when coarsening stalled) coarsest solve.
-fn coarsest(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels) {
+fn coarsest(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, ctx: &mut Ctx) {
     match levels.dense {
-        Some(d) => d.solve(b, x),
+        Some(d) => {
+            ctx.bytes += 16.0 * (d.n * d.n + d.n) as f64;
+            d.solve(b, x)
+        }
         None => {
             let s = levels.coarsest;
+            ctx.bytes += 4.0 * sweep_bytes(a) + 8.0 * a.n as f64;
             sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
             for forward in [false, true, false] {
                 sweep(a, &s.inv_diag, &s.colouring, b, x, forward);
@@ -221,14 +254,17 @@ fn coarsest(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels) {
 }
 
 /// x = B b, one cycle from x = 0 on level `k` (matrix `a`).
-fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mut [LevelWork], red: &mut Reducer) {
+fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mut [LevelWork], ctx: &mut Ctx) {
     if k == levels.transfers.len() {
-        coarsest(a, b, x, levels);
+        coarsest(a, b, x, levels, ctx);
         return;
     }
     let t = &levels.transfers[k];
     let s = &levels.smoothers[k];
     let ac = &levels.coarse[k];
+    let (n, nc) = (a.n as f64, ac.n as f64);
+    // two sweeps (+ zeroing), fused residual-restriction, prolongation
+    ctx.bytes += 2.0 * sweep_bytes(a) + 8.0 * n + (matrix_bytes(a) + 20.0 * n + 12.0 * nc) + (20.0 * n + 8.0 * nc);
     let (w, rest) = work.split_first_mut().expect("one work set per transfer");
     sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
     // restricted residual bc = Pᵀ(b − A x), fused (no fine residual vector)
@@ -244,9 +280,9 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
         });
     }
     if k + 1 == levels.transfers.len() {
-        coarsest(ac, &w.bc, &mut w.xc, levels);
+        coarsest(ac, &w.bc, &mut w.xc, levels, ctx);
     } else {
-        k_cycle_correction(ac, w, levels, k + 1, rest, red);
+        k_cycle_correction(ac, w, levels, k + 1, rest, ctx);
     }
     let xc = &w.xc;
     par_update(&mut x[..], |i, x| *x += xc[t.agg[i] as usize]);
@@ -255,10 +291,14 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
 
 /// Coarse correction xc ≈ Aᶜ⁻¹ bc on level `k` by at most two flexible-CG steps preconditioned
 /// with the next cycle (Notay & Vassilevski 2008, Algorithm 3.1 with t = [`KCYCLE_SKIP`]).
-fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, rest: &mut [LevelWork], red: &mut Reducer) {
+fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, rest: &mut [LevelWork], ctx: &mut Ctx) {
     let n = ac.n;
     let LevelWork { bc, xc, v1, v2, w1, w2, rt } = w;
-    cycle(ac, bc, v1, levels, k, rest, red);
+    cycle(ac, bc, v1, levels, k, rest, ctx);
+    let red = &mut ctx.red;
+    let nf = n as f64;
+    // product, two double sums, residual update
+    ctx.bytes += matrix_bytes(ac) + 16.0 * nf + 24.0 * nf + 24.0 * nf + 16.0 * nf;
     ac.multiply(v1, w1);
     let [rho1, alpha1] = red.sum2(n, |i| [v1[i] * w1[i], v1[i] * bc[i]]);
     if rho1 <= 0.0 || !rho1.is_finite() {
@@ -269,10 +309,14 @@ fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, re
     par_update(&mut rt[..], |i, r| *r = bc[i] - a1 * w1[i]);
     let [rt2, bc2] = red.sum2(n, |i| [rt[i] * rt[i], bc[i] * bc[i]]);
     if rt2 <= KCYCLE_SKIP * KCYCLE_SKIP * bc2 {
+        ctx.bytes += 16.0 * nf;
         par_update(&mut xc[..], |i, x| *x = a1 * v1[i]);
         return;
     }
-    cycle(ac, rt, v2, levels, k, rest, red);
+    cycle(ac, rt, v2, levels, k, rest, ctx);
+    let red = &mut ctx.red;
+    // product, two sums, combination
+    ctx.bytes += matrix_bytes(ac) + 16.0 * nf + 24.0 * nf + 16.0 * nf + 24.0 * nf;
     ac.multiply(v2, w2);
     let [gamma, beta] = red.sum2(n, |i| [v2[i] * w1[i], v2[i] * w2[i]]);
     let alpha2 = red.sum(n, |i| v2[i] * rt[i]);

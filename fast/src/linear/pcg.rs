@@ -17,6 +17,9 @@ pub struct Pcg {
     p: Vec<f64>,
     q: Vec<f64>,
     red: Reducer,
+    /// Bytes streamed by the CG kernels (as [`super::amg::Amg::bytes_streamed`], excluding the
+    /// preconditioner).
+    bytes: f64,
 }
 
 /// OpenFOAM's normalisation factor Σ|Ax − Ax̄| + Σ|b − Ax̄| + 10⁻²⁰ (x̄ = mean of x), given
@@ -37,11 +40,18 @@ impl Pcg {
         }
     }
 
+    /// Bytes streamed by the CG iterations so far (the preconditioner counts its own).
+    pub fn bytes_streamed(&self) -> f64 {
+        self.bytes
+    }
+
     /// Solves A x = b from the initial guess in `x`.
     pub fn solve(&mut self, a: &Csr, b: &[f64], x: &mut [f64], m: &mut impl Preconditioner, tol: Tolerance) -> SolveStats {
         let n = a.n;
         self.size(n);
-        let Pcg { r, z, p, q, red } = self;
+        let Pcg { r, z, p, q, red, bytes } = self;
+        let matrix = (12 * a.col.len() + 4 * (n + 1) + 8 * n) as f64;
+        let nf = n as f64;
         a.multiply(x, q);
         let norm = normalisation(a, b, x, q, red);
         par_update(&mut r[..], |i, r| *r = b[i] - q[i]);
@@ -55,6 +65,9 @@ impl Pcg {
         let mut rz = red.sum(n, |i| r[i] * z[i]);
         while stats.iterations < tol.max_iterations {
             stats.iterations += 1;
+            // product, p·q, fused update + |r| (x, r read and written, p, q read), r·z and z·q,
+            // p update
+            *bytes += matrix + 16.0 * nf + 16.0 * nf + 48.0 * nf + 24.0 * nf + 24.0 * nf;
             a.multiply(p, q);
             let pq = red.sum(n, |i| p[i] * q[i]);
             if pq == 0.0 || !pq.is_finite() {
