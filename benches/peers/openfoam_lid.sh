@@ -2,7 +2,7 @@
 # Side by side with OpenFOAM v1912 (issue #6): the 2-D lid-driven cavity (Re = 100, n × n cells,
 # Δt = 0.5/n) with the same settings in both codes: linear convection, backward (BDF2) time
 # scheme, PIMPLE with 2 outer correctors, 2 PISO correctors, 1 non-orthogonal corrector, no
-# relaxation, pressure tolerance 1e-7 (OpenFOAM: GAMG; fast: AMG-PCG), momentum 1e-7
+# relaxation, pressure tolerance 1e-7 (OpenFOAM: GAMG; fast: K-cycle AMG-preconditioned flexible CG), momentum 1e-7
 # (OpenFOAM: symGaussSeidel smoothSolver; fast: Jacobi-BiCGStab), 1 core each.
 # Prints both times per step, µs per cell-step and the ratio. Skips cleanly without OpenFOAM.
 #

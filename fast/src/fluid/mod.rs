@@ -8,8 +8,10 @@
 //!   ascending link order ([`assembly`]): no scatter, no atomics, bit-identical results on any
 //!   number of threads; work arrays are sized once, so the time loop does not allocate (except
 //!   the `StepReport` values and a rebuild when the link count grows);
-//! - pressure by CG preconditioned with aggregation AMG, momentum by Jacobi-BiCGStab
-//!   ([`crate::linear`]), both with OpenFOAM-normalised residual tolerances ([`FastSettings`]).
+//! - pressure by flexible CG preconditioned with a K-cycle aggregation AMG (multicolour
+//!   Gauss–Seidel smoothing; the hierarchy's values follow every pressure matrix, its
+//!   aggregation is rebuilt only when the overlap links change the pattern), momentum by
+//!   Jacobi-BiCGStab ([`crate::linear`]), both with OpenFOAM-normalised residual tolerances ([`FastSettings`]).
 
 pub mod assembly;
 pub mod conditions;

@@ -910,7 +910,14 @@ impl Solver for FastFluid {
     }
 
     fn step(&mut self) -> Result<StepReport, SolverError> {
-        self.advance()
+        // Called from outside the thread pool, every parallel loop of the step would be handed
+        // to a worker and waited for (a cross-thread wake-up per loop, hundreds per step);
+        // running the whole step on a worker hands over once. Same arithmetic either way.
+        if rayon::current_thread_index().is_some() {
+            self.advance()
+        } else {
+            rayon::scope(|_| self.advance())
+        }
     }
 
     fn state(&self) -> &State {

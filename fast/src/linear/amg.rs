@@ -104,11 +104,11 @@ impl Amg {
         }
         self.pattern_rows.clone_from(&a.row_start);
         self.pattern_cols.clone_from(&a.col);
-        self.transfers.clear();
-        self.coarse.clear();
+        // the previous levels' storage is reused (no allocation once it is large enough)
         let mut level = 0;
         loop {
-            let fine: &Csr = if level == 0 { a } else { &self.coarse[level - 1] };
+            let (done, rest) = self.coarse.split_at_mut(level);
+            let fine: &Csr = if level == 0 { a } else { &done[level - 1] };
             let n = fine.n;
             if n <= DENSE_MAX {
                 break;
@@ -117,20 +117,31 @@ impl Amg {
             let n1 = pairwise(fine, &mut self.agg1);
             galerkin(fine, &self.agg1, n1, &mut self.pair_tmp, &mut self.marker, &mut self.scratch_start, &mut self.scratch_members);
             let n2 = pairwise(&self.pair_tmp, &mut self.agg2);
-            let mut t = Transfer::default();
+            if level == self.transfers.len() {
+                self.transfers.push(Transfer::default());
+            }
+            let t = &mut self.transfers[level];
+            t.agg.clear();
             t.agg.extend(self.agg1.iter().map(|&i| self.agg2[i as usize]));
             members(&t.agg, n2, &mut t.start, &mut t.members);
-            let mut c = Csr::default();
-            coarse_pattern(fine, &mut t, n2, &mut c, &mut self.marker);
-            coarse_values(fine, &t, &mut c);
+            let mut fresh = Csr::default();
+            let c = match rest.first_mut() {
+                Some(c) => c,
+                None => &mut fresh,
+            };
+            coarse_pattern(fine, t, n2, c, &mut self.marker);
+            coarse_values(fine, t, c);
+            if rest.is_empty() {
+                self.coarse.push(fresh);
+            }
             let stalled = n2 * 10 > n * 9;
-            self.transfers.push(t);
-            self.coarse.push(c);
             level += 1;
             if stalled {
                 break;
             }
         }
+        self.transfers.truncate(level);
+        self.coarse.truncate(level);
         self.smoothers.resize_with(level, Smoother::default);
         for k in 0..level {
             let m = if k == 0 { a } else { &self.coarse[k - 1] };
