@@ -28,6 +28,9 @@ const DENSE_MAX: usize = 64;
 const STRENGTH: f64 = 0.25;
 /// K-cycle: skip the second coarse Krylov step when ‖r̃‖ ≤ t ‖r‖ (Notay's t = 0.25).
 const KCYCLE_SKIP: f64 = 0.25;
+/// K-cycle only below a transfer that reduces the rows at least this many times (Notay's
+/// AGMG applies the same guard): the work of level k is 2ᵏ visits × its rows.
+const KCYCLE_MIN_RATIO: usize = 3;
 const NONE: u32 = u32::MAX;
 
 /// Map from one level to the next coarser one.
@@ -292,8 +295,12 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
     }
     if k + 1 == levels.transfers.len() {
         coarsest(ac, &w.bc, &mut w.xc, levels, ctx);
-    } else {
+    } else if ac.n * KCYCLE_MIN_RATIO <= a.n {
         k_cycle_correction(ac, w, levels, k + 1, rest, ctx);
+    } else {
+        // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit, or
+        // the K-cycle's two visits per level would multiply without the work shrinking
+        cycle(ac, &w.bc, &mut w.xc, levels, k + 1, rest, ctx);
     }
     let xc = &w.xc;
     par_update(&mut x[..], |i, x| *x += xc[t.agg[i] as usize]);
