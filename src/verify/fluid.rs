@@ -198,6 +198,7 @@ struct CouetteErrors {
     /// compared at the mid radius.
     dpdr_diff_rms: f64,
     imbalance: f64,
+    unconverged_steps: u64,
 }
 
 fn couette_errors(case: &Case) -> Result<CouetteErrors> {
@@ -251,7 +252,7 @@ fn couette_errors(case: &Case) -> Result<CouetteErrors> {
         su += (u / k - exact.u_theta(r)).powi(2);
         sg += (g / k - exact.dp_dr(r)).powi(2);
     }
-    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, imbalance: summary.max_interface_imbalance })
+    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, imbalance: summary.max_interface_imbalance, unconverged_steps: summary.unconverged_steps })
 }
 
 fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
@@ -270,6 +271,8 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             let max_imbalance = param_f64_or(case, "max_interface_imbalance", 1e-12);
             rows.push(CheckRow::at_most(name, format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"), "reference", e.imbalance, max_imbalance));
         }
+        // an unconverged outer loop leaves an error that refinement does not remove
+        rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n_theta}x{n_r}"), "reference", e.unconverged_steps as f64, 0.0));
         results.push((n_r as f64, n_theta, dt, e));
     }
     for w in results.windows(2) {
