@@ -94,6 +94,15 @@ fn couette_wall_velocity() {
     compare("couette_wall_velocity.toml");
 }
 
+/// OpenFOAM's wall pressure condition (the wall cell's A⁻¹H), used by the OpenFOAM side-by-side
+/// bench; the verification cases use the linear extrapolation.
+#[test]
+fn couette_sliding_with_cell_value_wall_pressure() {
+    let mut c = case("couette_sliding.toml");
+    c.numerics.pressure_wall = spillage_model::fluid::settings::PressureWallCondition::FixedFluxExtrapolated;
+    compare_case("couette_sliding.toml", c);
+}
+
 #[test]
 fn couette_sliding() {
     compare("couette_sliding.toml");

@@ -48,6 +48,8 @@ struct RunSummary {
     /// Steps that used all `max_outer_iterations` with the initial pressure residual still
     /// above `p_initial_residual` (their result is not the solution of the discrete equations).
     unconverged_steps: u64,
+    /// Initial pressure residual of the last outer iteration of the last step.
+    last_residual: f64,
 }
 
 /// Runs the reference fluid solver to `case.time.end_time` (or `steps`).
@@ -60,11 +62,12 @@ fn run(case: &Case) -> Result<(ReferenceFluid, RunSummary)> {
         (None, Some(t)) => (t / dt - 1e-9).ceil() as u64,
         (None, None) => bail!("the case has neither time.steps nor time.end_time"),
     };
-    let mut summary = RunSummary { max_interface_imbalance: 0.0, max_continuity_local: 0.0, steps, unconverged_steps: 0 };
+    let mut summary = RunSummary { max_interface_imbalance: 0.0, max_continuity_local: 0.0, steps, unconverged_steps: 0, last_residual: f64::NAN };
     for _ in 0..steps {
         let report = solver.step().with_context(|| format!("case {}", case.case.name))?;
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
+            summary.last_residual = residual;
             if outer as usize >= case.numerics.max_outer_iterations && residual >= case.numerics.p_initial_residual {
                 summary.unconverged_steps += 1;
             }
@@ -86,6 +89,10 @@ fn param_f64(case: &Case, key: &str) -> Result<f64> {
         .get(key)
         .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
         .ok_or_else(|| anyhow!("[verify.params] {key}: missing; expected a number"))
+}
+
+fn param_bool(case: &Case, key: &str) -> bool {
+    case.verify.as_ref().and_then(|v| v.params.get(key)).and_then(|v| v.as_bool()).unwrap_or(false)
 }
 
 fn param_f64_or(case: &Case, key: &str, default: f64) -> f64 {
@@ -198,6 +205,8 @@ struct CouetteErrors {
     /// compared at the mid radius.
     dpdr_diff_rms: f64,
     imbalance: f64,
+    unconverged_steps: u64,
+    last_residual: f64,
 }
 
 fn couette_errors(case: &Case) -> Result<CouetteErrors> {
@@ -251,7 +260,7 @@ fn couette_errors(case: &Case) -> Result<CouetteErrors> {
         su += (u / k - exact.u_theta(r)).powi(2);
         sg += (g / k - exact.dp_dr(r)).powi(2);
     }
-    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, imbalance: summary.max_interface_imbalance })
+    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, imbalance: summary.max_interface_imbalance, unconverged_steps: summary.unconverged_steps, last_residual: summary.last_residual })
 }
 
 fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
@@ -270,6 +279,14 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             let max_imbalance = param_f64_or(case, "max_interface_imbalance", 1e-12);
             rows.push(CheckRow::at_most(name, format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"), "reference", e.imbalance, max_imbalance));
         }
+        // an unconverged outer loop leaves an error that refinement does not remove; a steady
+        // case only needs its last step to be a converged fixed point
+        if param_bool(case, "steady") {
+            let quantity = format!("last step: initial pressure residual {n_theta}x{n_r}");
+            rows.push(CheckRow::at_most(name, quantity, "reference", e.last_residual, case.numerics.p_initial_residual));
+        } else {
+            rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n_theta}x{n_r}"), "reference", e.unconverged_steps as f64, 0.0));
+        }
         results.push((n_r as f64, n_theta, dt, e));
     }
     for w in results.windows(2) {
@@ -277,12 +294,17 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let h = b.0 / a.0;
         let label = format!("{}x{}→{}x{}", a.1, a.0, b.1, b.0);
         rows.push(CheckRow::at_least(name, format!("observed order u_theta {label}"), "reference", observed_order(a.3.u_rms, b.3.u_rms, h), param_f64(case, "min_order_u")?));
-        if let Ok(min) = param_f64(case, "min_order_dpdr") {
-            rows.push(CheckRow::at_least(name, format!("observed order dp/dr (ring pressure differences) {label}"), "reference", observed_order(a.3.dpdr_diff_rms, b.3.dpdr_diff_rms, h), min));
-        }
-        if let Ok(min) = param_f64(case, "min_order_dpdr_cell_gradient") {
-            rows.push(CheckRow::at_least(name, format!("observed order dp/dr (cell gradient) {label}"), "reference", observed_order(a.3.dpdr_rms, b.3.dpdr_rms, h), min));
-        }
+        // the asserted pressure-gradient measure is the cell (Gauss) gradient, the field the
+        // solver works with and OpenFOAM's grad(p) of spec spillage-and-flow-verification.md
+        // §3.4; the ring-pressure difference quotient is reported beside it
+        let cell_gradient_order = observed_order(a.3.dpdr_rms, b.3.dpdr_rms, h);
+        let quantity = format!("observed order dp/dr (cell gradient) {label}");
+        rows.push(match param_f64(case, "min_order_dpdr") {
+            Ok(min) => CheckRow::at_least(name, quantity, "reference", cell_gradient_order, min),
+            Err(_) => CheckRow::at_most(name, quantity, "reference", cell_gradient_order, f64::INFINITY),
+        });
+        let difference_order = observed_order(a.3.dpdr_diff_rms, b.3.dpdr_diff_rms, h);
+        rows.push(CheckRow::at_most(name, format!("observed order dp/dr (ring pressure differences, reported) {label}"), "reference", difference_order, f64::INFINITY));
     }
     // sliding mesh vs wall velocity on the finest level (same n_r × n_θ)
     if let Some(other) = case.verify.as_ref().and_then(|v| v.params.get("compare_with")).and_then(|v| v.as_str()) {

@@ -158,7 +158,14 @@ pub struct Boundary {
     /// Boundary faces of cell c: `faces_of_cell[cell_start[c]..cell_start[c + 1]]`.
     pub cell_start: Vec<u32>,
     pub faces_of_cell: Vec<u32>,
+    /// The neighbour across the cell from each face (`NO_CELL` if none within 25° of the inward
+    /// normal) and the extrapolation ratio (x_f − x_P)·n / (x_P − x_N)·n (reference
+    /// `geometry::neighbour_across`).
+    pub across: Vec<u32>,
+    pub across_ratio: Vec<f64>,
 }
+
+pub const NO_CELL: u32 = u32::MAX;
 
 impl Boundary {
     pub fn len(&self) -> usize {
@@ -222,6 +229,32 @@ impl Boundary {
                     _ => 0.0,
                 };
             });
+    }
+
+    /// The neighbour across each face's cell: the one whose centre lies furthest along the
+    /// inward normal within 25° of it (cos 25° ≈ 0.906), first in link order on ties.
+    pub fn update_across(&mut self, links: &Links, adj: &Adjacency) {
+        let n = self.len();
+        self.across.resize(n, NO_CELL);
+        self.across_ratio.resize(n, 0.0);
+        for b in 0..n {
+            let c = self.cell[b] as usize;
+            let normal = self.area[b] / self.area[b].norm();
+            let mut best: Option<(u32, f64, f64)> = None;
+            for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
+                let (l, owned) = ((adj.entry[k] / 2) as usize, adj.entry[k] % 2 == 1);
+                let to_other = if owned { links.delta[l] } else { -links.delta[l] };
+                let depth = -to_other.dot(&normal);
+                let alignment = depth / to_other.norm();
+                if alignment > 0.906 && best.is_none_or(|(_, a, _)| alignment > a) {
+                    best = Some((adj.col[k], alignment, depth));
+                }
+            }
+            (self.across[b], self.across_ratio[b]) = match best {
+                Some((other, _, depth)) => (other, self.normal_distance[b] / depth),
+                None => (NO_CELL, 0.0),
+            };
+        }
     }
 }
 

@@ -12,7 +12,7 @@ use spillage_model::state::State;
 use super::assembly::*;
 use super::conditions::{Condition, Conditions};
 use super::interface::{push_overlaps, Frame};
-use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor};
+use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor, NO_CELL};
 use crate::linear::amg::Amg;
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::pcg::{normalisation, Pcg};
@@ -372,6 +372,7 @@ impl FastFluid {
             self.rebuild_overlaps();
         }
         self.size_work();
+        self.boundary.update_across(&self.links, &self.adj);
         let _ = self.rotating_zone;
 
         let n = self.mesh.n_cells();
@@ -609,9 +610,14 @@ impl FastFluid {
             out[b] = match &self.conditions.conditions[bnd.condition[b] as usize] {
                 Condition::FixedPressure { pressure } => *pressure,
                 _ if !w.prescribed[b].is_nan() => {
+                    let from_cell = |c: usize| (w.hbya[c].dot(&bnd.area[b]) - w.prescribed[b]) / (w.rau[c] * bnd.area[b].norm());
                     let g = match self.numerics.pressure_wall {
-                        PressureWallCondition::FixedFluxExtrapolated => (w.hbya[c].dot(&bnd.area[b]) - w.prescribed[b]) / (w.rau[c] * bnd.area[b].norm()),
                         PressureWallCondition::ZeroGradient => 0.0,
+                        PressureWallCondition::FixedFluxLinear if bnd.across[b] != NO_CELL => {
+                            let (at_cell, at_across) = (from_cell(c), from_cell(bnd.across[b] as usize));
+                            at_cell + bnd.across_ratio[b] * (at_cell - at_across)
+                        }
+                        PressureWallCondition::FixedFluxExtrapolated | PressureWallCondition::FixedFluxLinear => from_cell(c),
                     };
                     p[c] + bnd.normal_distance[b] * g
                 }

@@ -195,9 +195,15 @@ pub enum TimeScheme {
 pub enum PressureWallCondition {
     /// Spec §8.8 (T4.42): the normal gradient that makes the corrected flux equal the
     /// prescribed one, with A⁻¹H extrapolated from the cell (OpenFOAM
-    /// `fixedFluxExtrapolatedPressure`).
-    #[default]
+    /// `fixedFluxExtrapolatedPressure`). Kept for side-by-side runs with OpenFOAM.
     FixedFluxExtrapolated,
+    /// T4.42 with the normal gradient extrapolated linearly to the face from the cell and the
+    /// interior neighbour across the cell from it (second order; the cell value alone gives
+    /// the wall cell a one-sided, first-order pressure gradient). Falls back to the
+    /// `fixed_flux_extrapolated` value where no neighbour lies across. The default: it makes the
+    /// Couette dp/dr converge at second order (cases/verification/fluid/couette_wall_velocity.toml).
+    #[default]
+    FixedFluxLinear,
     /// dp/dn = 0 (the wrong condition at rotating walls, kept for the comparison of spec
     /// spillage-and-flow-verification.md §3.4).
     ZeroGradient,

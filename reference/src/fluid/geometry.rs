@@ -70,6 +70,10 @@ pub struct BoundaryFace {
     pub mesh_flux: f64,
     /// Index of the case condition (into `Conditions::patches`).
     pub patch: usize,
+    /// The interior neighbour across the cell from this face, for second-order extrapolation
+    /// to the face: (neighbour cell, (x_f − x_P)·n / (x_P − x_N)·n). `None` where no neighbour
+    /// centre lies within 25° of the inward normal.
+    pub across: Option<(usize, f64)>,
 }
 
 /// Rigid rotation of the rotor zone, if any.
@@ -164,6 +168,7 @@ impl Geometry {
                     normal_distance: (centre - mesh.cell_centres[cell]).dot(&normal),
                     mesh_flux: moving_velocity(cell, &centre).dot(&area),
                     patch: condition,
+                    across: None,
                 });
             }
         }
@@ -177,12 +182,32 @@ impl Geometry {
         for (b, face) in boundary.iter().enumerate() {
             cell_boundary[face.cell].push(b);
         }
+        for face in &mut boundary {
+            face.across = neighbour_across(face, &links, &cell_links[face.cell]);
+        }
         Geometry { links, boundary, cell_links, cell_boundary, solved_components }
     }
 
     pub fn n_cells(&self) -> usize {
         self.cell_links.len()
     }
+}
+
+/// The neighbour of `face.cell` whose centre lies furthest along the inward normal, if within
+/// 25° of it (cos 25° ≈ 0.906), and the extrapolation ratio (x_f − x_P)·n / (x_P − x_N)·n.
+fn neighbour_across(face: &BoundaryFace, links: &[Link], cell_links: &[usize]) -> Option<(usize, f64)> {
+    let normal = face.area / face.area.norm();
+    let mut best: Option<(usize, f64, f64)> = None;
+    for &l in cell_links {
+        let link = &links[l];
+        let (other, to_other) = if link.owner == face.cell { (link.neighbour, link.delta) } else { (link.owner, -link.delta) };
+        let depth = -to_other.dot(&normal);
+        let alignment = depth / to_other.norm();
+        if alignment > 0.906 && best.is_none_or(|(_, a, _)| alignment > a) {
+            best = Some((other, alignment, depth));
+        }
+    }
+    best.map(|(other, _, depth)| (other, face.normal_distance / depth))
 }
 
 /// Marks the cells of the rotating zone.
@@ -194,4 +219,30 @@ pub fn cell_in_rotor(mesh: &Mesh, rotor: Option<&RotorMotion>) -> Vec<bool> {
         }
     }
     in_rotor
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spillage_model::mesh::BoxSpec;
+
+    /// On a graded box every boundary face finds the cell behind its own cell along the normal,
+    /// and the ratio is (half the wall cell) / (distance between the two centres).
+    #[test]
+    fn the_neighbour_across_a_wall_face_is_the_next_cell_inwards() {
+        let spec = BoxSpec { grading: [2.0, 1.0, 1.0], ..BoxSpec::uniform(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0), [4, 3, 2]) };
+        let mesh = Mesh::cartesian_box(&spec).unwrap();
+        let conditions: Vec<Option<usize>> = mesh.patches.iter().map(|_| Some(0)).collect();
+        let geo = Geometry::build(&mesh, &conditions, None, Vec::new());
+        assert!(!geo.boundary.is_empty());
+        for face in &geo.boundary {
+            let (across, ratio) = face.across.expect("every cell of a box with ≥ 2 cells per direction has one");
+            let normal = face.area / face.area.norm();
+            let step = mesh.cell_centres[face.cell] - mesh.cell_centres[across];
+            // the neighbour lies straight along the inward normal (no sideways offset)
+            assert!((step - normal * step.dot(&normal)).norm() < 1e-12, "face {}: cell {across} not straight behind", face.face);
+            let expected = face.normal_distance / step.dot(&normal);
+            assert!((ratio - expected).abs() < 1e-14 && ratio > 0.0 && ratio < 1.0, "face {}: ratio {ratio}", face.face);
+        }
+    }
 }

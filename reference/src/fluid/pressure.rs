@@ -6,6 +6,7 @@ use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
 
 use super::boundary::Condition;
+use super::geometry::BoundaryFace;
 use super::gradient::scalar_gradient;
 use super::linear::SparseMatrix;
 use super::momentum::{MomentumSystem, StepInputs};
@@ -38,12 +39,19 @@ pub fn h_by_a(inputs: &StepInputs, system: &MomentumSystem, u: &[Vec3]) -> (Vec<
     (hbya, rau)
 }
 
-/// Normal pressure gradient at a prescribed-flux boundary face (T4.42 with A⁻¹H extrapolated
-/// from the cell): ∂P/∂n = (HbyA_P·S − φ_b) / (rAU_P |S|); zero for the `zero_gradient` option.
-fn boundary_normal_gradient(condition: PressureWallCondition, hbya: &Vec3, rau: f64, area: &Vec3, flux: f64) -> f64 {
-    match condition {
-        PressureWallCondition::FixedFluxExtrapolated => (hbya.dot(area) - flux) / (rau * area.norm()),
-        PressureWallCondition::ZeroGradient => 0.0,
+/// Normal pressure gradient at a prescribed-flux boundary face (spec §8.8, T4.42):
+/// ∂P/∂n = (HbyA·S − φ_b) / (rAU |S|), with HbyA/rAU taken from the cell
+/// (`fixed_flux_extrapolated`, OpenFOAM's choice) or extrapolated linearly from the cell and the
+/// neighbour across it (`fixed_flux_linear`); zero for the `zero_gradient` option.
+fn boundary_normal_gradient(inputs: &StepInputs, face: &BoundaryFace, hbya: &[Vec3], rau: &[f64], flux: f64) -> f64 {
+    let from_cell = |c: usize| (hbya[c].dot(&face.area) - flux) / (rau[c] * face.area.norm());
+    match (inputs.numerics.pressure_wall, face.across) {
+        (PressureWallCondition::ZeroGradient, _) => 0.0,
+        (PressureWallCondition::FixedFluxLinear, Some((across, ratio))) => {
+            let (at_cell, at_across) = (from_cell(face.cell), from_cell(across));
+            at_cell + ratio * (at_cell - at_across)
+        }
+        (PressureWallCondition::FixedFluxExtrapolated | PressureWallCondition::FixedFluxLinear, _) => from_cell(face.cell),
     }
 }
 
@@ -54,12 +62,9 @@ pub fn boundary_pressures(inputs: &StepInputs, hbya: &[Vec3], rau: &[f64], p: &[
         .boundary
         .iter()
         .enumerate()
-            .map(|(b, face)| match (&inputs.conditions.conditions[face.patch], prescribed[b]) {
+        .map(|(b, face)| match (&inputs.conditions.conditions[face.patch], prescribed[b]) {
             (Condition::FixedPressure { pressure }, _) => *pressure,
-            (_, Some(flux)) => {
-                let c = face.cell;
-                p[c] + face.normal_distance * boundary_normal_gradient(inputs.numerics.pressure_wall, &hbya[c], rau[c], &face.area, flux)
-            }
+            (_, Some(flux)) => p[face.cell] + face.normal_distance * boundary_normal_gradient(inputs, face, hbya, rau, flux),
             (_, None) => p[face.cell],
         })
         .collect()
