@@ -348,14 +348,14 @@ impl FastFluid {
         }
     }
 
-    fn advance(&mut self) -> Result<StepReport, SolverError> {
+    fn advance(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
         let clock = std::time::Instant::now();
-        let report = self.advance_inner();
+        let result = self.advance_inner(report);
         self.counts.step_seconds = clock.elapsed().as_secs_f64();
-        report
+        result
     }
 
-    fn advance_inner(&mut self) -> Result<StepReport, SolverError> {
+    fn advance_inner(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
         let dt = self.dt;
         let tc = self.time_coefficients();
         // step 2: turn the rotor, update the moving geometry in place, rebuild the overlaps
@@ -467,7 +467,8 @@ impl FastFluid {
                 break;
             }
         }
-        Ok(self.finish_step(tc, outer_iterations, last_residual))
+        self.finish_step(tc, outer_iterations, last_residual, report);
+        Ok(())
     }
 
     /// Boundary velocity of every boundary face from the latest cell velocity.
@@ -788,7 +789,7 @@ impl FastFluid {
     }
 
     /// Diagnostics and step 5 (shift the time levels).
-    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64) -> StepReport {
+    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64, report: &mut StepReport) {
         let [c0, c1, c2] = tc;
         let dt = self.dt;
         let n = self.mesh.n_cells();
@@ -893,20 +894,20 @@ impl FastFluid {
         self.state.time += dt;
         self.state.step += 1;
         self.state.dt = dt;
-        StepReport {
-            values: vec![
-                ("dt", dt),
-                ("courant_max", courant),
-                ("continuity_local", local),
-                ("continuity_global", global),
-                ("continuity_cumulative", cumulative),
-                ("kinetic_energy", kinetic),
-                ("outer_iterations", outer_iterations as f64),
-                ("p_initial_residual", last_residual),
-                ("interface_imbalance", imbalance),
-                ("rotor_angle", self.state.rotor_angle),
-            ],
-        }
+        // cleared and refilled: a report reused across steps keeps its storage
+        report.values.clear();
+        report.values.extend_from_slice(&[
+            ("dt", dt),
+            ("courant_max", courant),
+            ("continuity_local", local),
+            ("continuity_global", global),
+            ("continuity_cumulative", cumulative),
+            ("kinetic_energy", kinetic),
+            ("outer_iterations", outer_iterations as f64),
+            ("p_initial_residual", last_residual),
+            ("interface_imbalance", imbalance),
+            ("rotor_angle", self.state.rotor_angle),
+        ]);
     }
 }
 
@@ -915,14 +916,15 @@ impl Solver for FastFluid {
         "fast"
     }
 
-    fn step(&mut self) -> Result<StepReport, SolverError> {
+    /// Allocation-free once `report` has held one step's values.
+    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
         // Called from outside the thread pool, every parallel loop of the step would be handed
         // to a worker and waited for (a cross-thread wake-up per loop, hundreds per step);
         // running the whole step on a worker hands over once. Same arithmetic either way.
         if rayon::current_thread_index().is_some() {
-            self.advance()
+            self.advance(report)
         } else {
-            rayon::scope(|_| self.advance())
+            rayon::scope(|_| self.advance(report))
         }
     }
 
