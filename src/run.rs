@@ -162,9 +162,11 @@ impl Running<'_> {
         if self.restart_time.is_none() && output.paraview {
             self.frames.write(solver.mesh(), solver.state())?;
         }
+        // one report for the whole run: the solver refills it in place each step
+        let mut report = StepReport::default();
         while !self.finished(solver.state()) {
             let t0 = Instant::now();
-            let report = solver.step()?;
+            solver.step_into(&mut report)?;
             self.step_seconds += t0.elapsed().as_secs_f64();
             self.steps += 1;
             let state = solver.state();
@@ -179,7 +181,10 @@ impl Running<'_> {
                 self.checkpoint(state)?;
             }
             progress.set_position(progress_position(self.case, state));
-            progress.set_message(live_message(state, &report));
+            // the message is a new String: only built when someone can see it
+            if !progress.is_hidden() {
+                progress.set_message(live_message(state, &report));
+            }
         }
         let state = solver.state();
         let last_written = write_every > 0 && state.step % write_every == 0;

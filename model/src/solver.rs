@@ -25,8 +25,18 @@ pub enum SolverError {
 pub trait Solver {
     /// `"reference"` or `"fast"`.
     fn name(&self) -> &'static str;
-    /// Advances the state by one time step.
-    fn step(&mut self) -> Result<StepReport, SolverError>;
+    /// Advances the state by one time step and writes what it did into `report`, replacing
+    /// its previous values. A time loop that passes the same report every step lets a solver
+    /// reuse the report's storage (the fast solver clears and refills it, no allocation);
+    /// on error the report's contents are unspecified.
+    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError>;
+    /// Advances the state by one time step and returns a new report (allocates; for callers
+    /// outside a time loop).
+    fn step(&mut self) -> Result<StepReport, SolverError> {
+        let mut report = StepReport::default();
+        self.step_into(&mut report)?;
+        Ok(report)
+    }
     /// The current state.
     fn state(&self) -> &State;
     /// The mesh at the current time (rotor turned), for output; `None` for particle-only runs.

@@ -300,7 +300,7 @@ impl Solver for ReferenceDem {
 
     /// One outer step of `time.dt` containing the DEM sub-steps (particles-only cases; the
     /// particles feel `[particles.ambient]` if it exerts forces, else gravity only).
-    fn step(&mut self) -> Result<StepReport, SolverError> {
+    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
         let ambient = self.ambient_fluid();
         let sampler = move |_: &Particle| ambient;
         let n = self.advance(self.dt, &sampler);
@@ -313,7 +313,7 @@ impl Solver for ReferenceDem {
         }
         let particles = self.particle_state();
         let max_overlap_ratio = self.samples.iter().map(|s| s.overlap / s.radius).fold(0.0, f64::max);
-        Ok(StepReport {
+        *report = StepReport {
             values: vec![
                 ("substeps", n as f64),
                 ("particles", particles.particles.len() as f64),
@@ -323,7 +323,8 @@ impl Solver for ReferenceDem {
                 ("max_overlap_ratio", max_overlap_ratio),
                 ("impacts", particles.impacts.len() as f64),
             ],
-        })
+        };
+        Ok(())
     }
 
     fn state(&self) -> &State {

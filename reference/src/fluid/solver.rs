@@ -367,8 +367,9 @@ impl Solver for ReferenceFluid {
         "reference"
     }
 
-    fn step(&mut self) -> Result<StepReport, SolverError> {
-        self.advance()
+    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
+        *report = self.advance()?;
+        Ok(())
     }
 
     fn state(&self) -> &State {
