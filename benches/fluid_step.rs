@@ -22,6 +22,9 @@ use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_reference::fluid::ReferenceFluid;
 
+#[path = "common/triad.rs"]
+mod triad;
+use triad::triad;
 #[path = "common/cases.rs"]
 mod bench_cases;
 use bench_cases::{couette, lid, rotor3d};
@@ -65,28 +68,6 @@ fn n_cells(case: &Case) -> usize {
     spillage::verify::fluid::build_mesh(case).expect("mesh").n_cells()
 }
 
-/// STREAM triad a = b + s·c on `threads` threads: bytes moved (3 arrays, STREAM's count) per second.
-fn triad(threads: usize, n: usize) -> f64 {
-    use rayon::prelude::*;
-    let b = vec![1.0f64; n];
-    let c = vec![2.0f64; n];
-    let mut a = vec![0.0f64; n];
-    pool(threads).install(|| {
-        let mut best = f64::INFINITY;
-        for _ in 0..6 {
-            let t = Instant::now();
-            a.par_chunks_mut(1 << 16).enumerate().for_each(|(k, ch)| {
-                let o = k << 16;
-                for (i, x) in ch.iter_mut().enumerate() {
-                    *x = b[o + i] + 3.0 * c[o + i];
-                }
-            });
-            best = best.min(t.elapsed().as_secs_f64());
-        }
-        std::hint::black_box(&a);
-        3.0 * 8.0 * n as f64 / best
-    })
-}
 
 /// 7-point Laplacian on an n³ grid (diagonal 6 everywhere: Dirichlet walls), the pressure
 /// matrix shape of a 3-D hexahedral mesh.
@@ -182,8 +163,8 @@ fn summary() {
         rows.push(measure(format!("lid_driven {n}x{n}"), &lid(n), 10, with_ref));
     }
     let triad_n = 20_000_000;
-    let bw1 = triad(1, triad_n);
-    let bw2 = triad(2, triad_n);
+    let bw1 = triad(1, triad_n, 6);
+    let bw2 = triad(2, triad_n, 6);
     let pn = if large() { 100 } else { 64 };
     let (cips1, bytes, iters, setup1, solve1) = pressure_throughput(1, pn);
     let (cips2, _, _, setup2, solve2) = pressure_throughput(2, pn);

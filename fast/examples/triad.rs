@@ -5,30 +5,9 @@
 //!
 //! usage: cargo run --release -p spillage-fast --example triad -- [n (default 20 000 000)] [repeats]
 
-use std::time::Instant;
-
-fn triad(threads: usize, n: usize, repeats: usize) -> f64 {
-    use rayon::prelude::*;
-    let b = vec![1.0f64; n];
-    let c = vec![2.0f64; n];
-    let mut a = vec![0.0f64; n];
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
-    pool.install(|| {
-        let mut best = f64::INFINITY;
-        for _ in 0..repeats {
-            let t = Instant::now();
-            a.par_chunks_mut(1 << 16).enumerate().for_each(|(k, ch)| {
-                let o = k << 16;
-                for (i, x) in ch.iter_mut().enumerate() {
-                    *x = b[o + i] + 3.0 * c[o + i];
-                }
-            });
-            best = best.min(t.elapsed().as_secs_f64());
-        }
-        std::hint::black_box(&a);
-        3.0 * 8.0 * n as f64 / best
-    })
-}
+#[path = "../../benches/common/triad.rs"]
+mod triad;
+use triad::triad;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
