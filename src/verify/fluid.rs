@@ -204,9 +204,7 @@ struct CouetteErrors {
     /// rms error of the difference quotient of azimuth-averaged pressures of adjacent rings,
     /// compared at the mid radius.
     dpdr_diff_rms: f64,
-    imbalance: f64,
-    unconverged_steps: u64,
-    last_residual: f64,
+    run: RunSummary,
 }
 
 fn couette_errors(case: &Case) -> Result<CouetteErrors> {
@@ -260,7 +258,7 @@ fn couette_errors(case: &Case) -> Result<CouetteErrors> {
         su += (u / k - exact.u_theta(r)).powi(2);
         sg += (g / k - exact.dp_dr(r)).powi(2);
     }
-    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, imbalance: summary.max_interface_imbalance, unconverged_steps: summary.unconverged_steps, last_residual: summary.last_residual })
+    Ok(CouetteErrors { u_rms: (su / n).sqrt(), dpdr_rms: (sg / n).sqrt(), dpdr_diff_rms, run: summary })
 }
 
 fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
@@ -277,15 +275,15 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         if matches!(case.mesh, Some(MeshSection::RotorStator { .. })) {
             // round-off: the overlap fluxes are summed onto both sides from one value each
             let max_imbalance = param_f64_or(case, "max_interface_imbalance", 1e-12);
-            rows.push(CheckRow::at_most(name, format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"), "reference", e.imbalance, max_imbalance));
+            rows.push(CheckRow::at_most(name, format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"), "reference", e.run.max_interface_imbalance, max_imbalance));
         }
         // an unconverged outer loop leaves an error that refinement does not remove; a steady
         // case only needs its last step to be a converged fixed point
         if param_bool(case, "steady") {
             let quantity = format!("last step: initial pressure residual {n_theta}x{n_r}");
-            rows.push(CheckRow::at_most(name, quantity, "reference", e.last_residual, case.numerics.p_initial_residual));
+            rows.push(CheckRow::at_most(name, quantity, "reference", e.run.last_residual, case.numerics.p_initial_residual));
         } else {
-            rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n_theta}x{n_r}"), "reference", e.unconverged_steps as f64, 0.0));
+            rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n_theta}x{n_r}"), "reference", e.run.unconverged_steps as f64, 0.0));
         }
         results.push((n_r as f64, n_theta, dt, e));
     }

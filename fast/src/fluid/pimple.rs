@@ -128,8 +128,6 @@ pub struct FastFluid {
     body_force: Vec3,
     rotor: Option<Rotor>,
     frame: Option<Frame>,
-    /// Rotating zone whose angle turns the interfaces.
-    rotating_zone: Option<usize>,
     dt: f64,
     settings: FastSettings,
     in_rotor: Vec<bool>,
@@ -248,7 +246,6 @@ impl FastFluid {
             body_force,
             rotor,
             frame,
-            rotating_zone,
             dt,
             settings: FastSettings::from_numerics(&case.numerics),
             in_rotor,
@@ -386,15 +383,15 @@ impl FastFluid {
         if self.frame.is_some() && (self.rotor.is_some() || self.links.len() == self.links.n_internal) {
             self.rebuild_overlaps();
         }
-        if self.rotor.is_some() || self.frame.is_some() {
-            self.orthogonal = None;
-        }
-        if self.orthogonal.is_none() {
+        // link geometry changes on the first step and whenever the rotor or the overlaps move
+        let geometry_changed = self.orthogonal.is_none() || self.rotor.is_some() || self.frame.is_some();
+        if geometry_changed {
             self.orthogonal = Some(self.links_orthogonal());
         }
         self.size_work();
-        self.boundary.update_across(&self.links, &self.adj);
-        let _ = self.rotating_zone;
+        if geometry_changed {
+            self.boundary.update_across(&self.links, &self.adj);
+        }
 
         let n = self.mesh.n_cells();
         let nb = self.boundary.len();
@@ -599,7 +596,6 @@ impl FastFluid {
 
     /// Momentum predictor M u = b − V∇P* for every solved component.
     fn predictor(&mut self) -> Result<(), SolverError> {
-        let n = self.mesh.n_cells();
         let w = &mut self.w;
         scalar_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p, &w.p_b, &mut w.grad_p);
         for j in 0..3 {
@@ -618,7 +614,6 @@ impl FastFluid {
             if let Some(message) = unconverged(&stats, self.settings.momentum) {
                 return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): {message}")));
             }
-            let _ = n;
         }
         Ok(())
     }

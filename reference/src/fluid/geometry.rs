@@ -239,9 +239,11 @@ mod tests {
             let (across, ratio) = face.across.expect("every cell of a box with ≥ 2 cells per direction has one");
             let normal = face.area / face.area.norm();
             let step = mesh.cell_centres[face.cell] - mesh.cell_centres[across];
-            // the neighbour lies straight along the inward normal (no sideways offset)
+            // the neighbour lies straight along the inward normal (no sideways offset); 1e-12:
+            // round-off of centroids of order 1
             assert!((step - normal * step.dot(&normal)).norm() < 1e-12, "face {}: cell {across} not straight behind", face.face);
             let expected = face.normal_distance / step.dot(&normal);
+            // the same quotient computed the same way up to summation order: round-off
             assert!((ratio - expected).abs() < 1e-14 && ratio > 0.0 && ratio < 1.0, "face {}: ratio {ratio}", face.face);
         }
     }
