@@ -17,7 +17,7 @@ use crate::linear::amg::Amg;
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::pcg::{normalisation, Pcg};
 use crate::linear::reduce::Reducer;
-use crate::linear::{par_update, Csr, Jacobi, Tolerance};
+use crate::linear::{par_update, Csr, Tolerance};
 
 /// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
 /// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
@@ -605,7 +605,7 @@ impl FastFluid {
             let (src, gp, vol) = (&w.source, &w.grad_p, &self.mesh.cell_volumes);
             par_update(&mut w.rhs[j][..], |c, r| *r = src[c][j] - vol[c] * gp[c][j]);
             let clock = std::time::Instant::now();
-            let stats = self.bicg.solve(&w.mom, &w.rhs[j], &mut w.u[j], &mut Jacobi, self.settings.momentum);
+            let stats = self.bicg.solve(&w.mom, &w.rhs[j], &mut w.u[j], self.settings.momentum);
             self.counts.momentum_seconds += clock.elapsed().as_secs_f64();
             self.counts.momentum_iterations += stats.iterations;
             if !stats.final_residual.is_finite() {

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use super::csr::Csr;
 use super::reduce::{Reducer, CHUNK};
 use super::smoother::{inverse_diagonal, sweep, sweep_from_zero, Colouring};
-use super::{par_update, Out, Preconditioner};
+use super::{par_range, par_update, Out, Preconditioner};
 
 /// Coarsest level size solved by dense Cholesky.
 const DENSE_MAX: usize = 64;
@@ -31,6 +31,14 @@ const KCYCLE_SKIP: f64 = 0.25;
 /// K-cycle only below a transfer that reduces the rows at least this many times (Notay's
 /// AGMG applies the same guard): the work of level k is 2ᵏ visits × its rows.
 const KCYCLE_MIN_RATIO: usize = 3;
+/// K-cycle only on coarse levels of at least this many rows: below it a level's kernels cost
+/// their fixed overheads more than their rows, and the 2ᵏ visits multiply those.
+const KCYCLE_MIN_ROWS: usize = 2048;
+/// Pairing: a candidate replaces the best so far only if it is stronger by more than this
+/// factor. Couplings that are equal up to the rounding of the face geometry then pair in column
+/// order, which keeps the aggregates of a uniform block regular (2 × 2 after two passes, so
+/// every coarse level stays a two-colour grid) instead of following the rounding noise.
+const TIE: f64 = 1.0 + 1e-9;
 const NONE: u32 = u32::MAX;
 
 /// Map from one level to the next coarser one.
@@ -44,6 +52,26 @@ struct Transfer {
     /// Coarse off-diagonal entry of each fine off-diagonal entry (`NONE`: inside one aggregate,
     /// adds to the coarse diagonal).
     entry_map: Vec<u32>,
+    /// The members whose residual is restricted: `residual_members[residual_start[I]..
+    /// residual_start[I + 1]]`, the members of I not in the fine level's last colour. The
+    /// pre-smoothing sweep solves the last colour's rows exactly from their updated neighbours,
+    /// so their residual is zero up to rounding and is not recomputed.
+    residual_start: Vec<u32>,
+    residual_members: Vec<u32>,
+}
+
+impl Transfer {
+    fn select_residual_members(&mut self, colouring: &Colouring) {
+        let last = colouring.colours().saturating_sub(1);
+        self.residual_start.clear();
+        self.residual_start.push(0);
+        self.residual_members.clear();
+        for big_i in 0..self.start.len() - 1 {
+            let rows = &self.members[self.start[big_i] as usize..self.start[big_i + 1] as usize];
+            self.residual_members.extend(rows.iter().filter(|&&i| colouring.colours() == 1 || colouring.colour_of(i as usize) != last));
+            self.residual_start.push(self.residual_members.len() as u32);
+        }
+    }
 }
 
 /// Smoother data of one level: its colouring and inverse diagonal.
@@ -149,6 +177,7 @@ impl Amg {
         for k in 0..level {
             let m = if k == 0 { a } else { &self.coarse[k - 1] };
             self.smoothers[k].colouring.build(m);
+            self.transfers[k].select_residual_members(&self.smoothers[k].colouring);
         }
         let last = self.coarse.last().unwrap_or(a);
         self.coarsest_smoother.colouring.build(last);
@@ -286,7 +315,7 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
         let x = &*x;
         par_update(&mut w.bc[..], |c, bc| {
             let mut sum = 0.0;
-            for &i in &t.members[t.start[c] as usize..t.start[c + 1] as usize] {
+            for &i in &t.residual_members[t.residual_start[c] as usize..t.residual_start[c + 1] as usize] {
                 let i = i as usize;
                 sum += b[i] - a.diag[i] * x[i] - a.row_off_diagonal(i, x);
             }
@@ -295,15 +324,23 @@ fn cycle(a: &Csr, b: &[f64], x: &mut [f64], levels: &Levels, k: usize, work: &mu
     }
     if k + 1 == levels.transfers.len() {
         coarsest(ac, &w.bc, &mut w.xc, levels, ctx);
-    } else if ac.n * KCYCLE_MIN_RATIO <= a.n {
+    } else if ac.n * KCYCLE_MIN_RATIO <= a.n && ac.n >= KCYCLE_MIN_ROWS {
         k_cycle_correction(ac, w, levels, k + 1, rest, ctx);
     } else {
         // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit, or
         // the K-cycle's two visits per level would multiply without the work shrinking
         cycle(ac, &w.bc, &mut w.xc, levels, k + 1, rest, ctx);
     }
+    // prolongation; the backward sweep starts with the last colour and overwrites those rows
+    // from their (corrected) neighbours alone, so they are not corrected here
     let xc = &w.xc;
-    par_update(&mut x[..], |i, x| *x += xc[t.agg[i] as usize]);
+    let corrected = &s.colouring.order[..s.colouring.start[s.colouring.colours().saturating_sub(1)] as usize];
+    let xs = Out::of(x);
+    // SAFETY: every row appears once in the colour order
+    par_range(corrected.len(), |m| unsafe {
+        let i = corrected[m] as usize;
+        *xs.ptr(i) += xc[t.agg[i] as usize];
+    });
     sweep(a, &s.inv_diag, &s.colouring, b, x, false);
 }
 
@@ -315,10 +352,9 @@ fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, re
     cycle(ac, bc, v1, levels, k, rest, ctx);
     let red = &mut ctx.red;
     let nf = n as f64;
-    // product, two double sums, residual update
-    ctx.bytes += matrix_bytes(ac) + 16.0 * nf + 24.0 * nf + 24.0 * nf + 16.0 * nf;
-    ac.multiply(v1, w1);
-    let [rho1, alpha1] = red.sum2(n, |i| [v1[i] * w1[i], v1[i] * bc[i]]);
+    // product with two sums, two sums, residual update
+    ctx.bytes += matrix_bytes(ac) + 24.0 * nf + 24.0 * nf + 16.0 * nf;
+    let [rho1, alpha1] = ac.multiply_sum2(v1, w1, red, |i, w| [v1[i] * w, v1[i] * bc[i]]);
     if rho1 <= 0.0 || !rho1.is_finite() {
         xc.fill(0.0);
         return;
@@ -333,10 +369,9 @@ fn k_cycle_correction(ac: &Csr, w: &mut LevelWork, levels: &Levels, k: usize, re
     }
     cycle(ac, rt, v2, levels, k, rest, ctx);
     let red = &mut ctx.red;
-    // product, two sums, combination
-    ctx.bytes += matrix_bytes(ac) + 16.0 * nf + 24.0 * nf + 16.0 * nf + 24.0 * nf;
-    ac.multiply(v2, w2);
-    let [gamma, beta] = red.sum2(n, |i| [v2[i] * w1[i], v2[i] * w2[i]]);
+    // product with two sums, a sum, combination
+    ctx.bytes += matrix_bytes(ac) + 24.0 * nf + 16.0 * nf + 24.0 * nf;
+    let [gamma, beta] = ac.multiply_sum2(v2, w2, red, |i, w| [v2[i] * w1[i], v2[i] * w]);
     let alpha2 = red.sum(n, |i| v2[i] * rt[i]);
     let rho2 = beta - gamma * gamma / rho1;
     if rho2 <= 0.0 || !rho2.is_finite() {
@@ -364,7 +399,7 @@ fn pairwise(a: &Csr, agg: &mut Vec<u32>) -> usize {
         for k in lo..hi {
             let j = a.col[k];
             let v = -a.val[k];
-            if j as usize != i && agg[j as usize] == NONE && v >= STRENGTH * max_neg && v > best_v {
+            if j as usize != i && agg[j as usize] == NONE && v >= STRENGTH * max_neg && v > best_v * TIE {
                 best = j;
                 best_v = v;
             }

@@ -2,7 +2,8 @@
 //! reads A, the diagonal, on its own).
 
 
-use super::par_update;
+use super::reduce::Reducer;
+use super::{par_update, Out};
 
 #[derive(Clone, Debug, Default)]
 pub struct Csr {
@@ -29,6 +30,19 @@ impl Csr {
     /// y = A x.
     pub fn multiply(&self, x: &[f64], y: &mut [f64]) {
         par_update(&mut y[..], |r, y| *y = self.diag[r] * x[r] + self.row_off_diagonal(r, x));
+    }
+
+    /// y = A x and, in the same pass, the two sums Σᵢ f(i, yᵢ) (fixed-chunk reduction: the same
+    /// bits on any number of threads).
+    pub fn multiply_sum2(&self, x: &[f64], y: &mut [f64], red: &mut Reducer, f: impl Fn(usize, f64) -> [f64; 2] + Sync) -> [f64; 2] {
+        assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
+        let ys = Out::of(y);
+        red.sum2(self.n, |r| {
+            let yr = self.diag[r] * x[r] + self.row_off_diagonal(r, x);
+            // SAFETY: r < n; the reduction's chunks visit every row exactly once
+            unsafe { ys.set(r, yr) };
+            f(r, yr)
+        })
     }
 
     /// y = (A − D) x.

@@ -65,11 +65,10 @@ impl Pcg {
         let mut rz = red.sum(n, |i| r[i] * z[i]);
         while stats.iterations < tol.max_iterations {
             stats.iterations += 1;
-            // product, p·q, fused update + |r| (x, r read and written, p, q read), r·z and z·q,
-            // p update
-            *bytes += matrix + 16.0 * nf + 16.0 * nf + 48.0 * nf + 24.0 * nf + 24.0 * nf;
-            a.multiply(p, q);
-            let pq = red.sum(n, |i| p[i] * q[i]);
+            // product with p·q, fused update + |r| (x, r read and written, p, q read), r·z and
+            // z·q, p update
+            *bytes += matrix + 16.0 * nf + 48.0 * nf + 24.0 * nf + 24.0 * nf;
+            let [pq, _] = a.multiply_sum2(p, q, red, |i, qi| [p[i] * qi, 0.0]);
             if pq == 0.0 || !pq.is_finite() {
                 break;
             }

@@ -62,6 +62,11 @@ impl Colouring {
         }
     }
 
+    /// Colour of row r.
+    pub fn colour_of(&self, r: usize) -> usize {
+        self.colour[r] as usize
+    }
+
     pub fn colours(&self) -> usize {
         self.start.len().saturating_sub(1)
     }
@@ -79,8 +84,16 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mu
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
     let xs = Out::of(x);
-    for step in 0..n_colours {
-        let k = if forward { step } else { n_colours - 1 - step };
+    if forward {
+        colour_passes(a, inv_diag, colouring, b, xs, 0..n_colours);
+    } else {
+        colour_passes(a, inv_diag, colouring, b, xs, (0..n_colours).rev());
+    }
+}
+
+/// The Gauss–Seidel update of the rows of each colour in `colours`, one colour after the other.
+fn colour_passes(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], xs: Out<f64>, colours: impl Iterator<Item = usize>) {
+    for k in colours {
         let rows = &colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize];
         par_range(rows.len(), |i| {
             let r = rows[i] as usize;
@@ -97,10 +110,23 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mu
     }
 }
 
-/// Forward sweep from x = 0.
+/// Forward sweep from x = 0. The first colour's neighbours are all still zero, so its rows are
+/// x = b / diag without reading the matrix (the same bits as the full sweep: b − Σ a·0 = b), and
+/// only the rows of the third and later colours need zeroing before the later colours read them.
 pub fn sweep_from_zero(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mut [f64]) {
-    par_update(x, |_, v| *v = 0.0);
-    sweep(a, inv_diag, colouring, b, x, true);
+    assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
+    let n_colours = colouring.colours();
+    let xs = Out::of(x);
+    let rows_from = |k: usize| &colouring.order[colouring.start[k.min(n_colours)] as usize..];
+    let later = rows_from(2);
+    // SAFETY (both loops): every row index is < n and appears once in the colour order
+    par_range(later.len(), |i| unsafe { xs.set(later[i] as usize, 0.0) });
+    let first = &colouring.order[..colouring.start[1.min(n_colours)] as usize];
+    par_range(first.len(), |i| {
+        let r = first[i] as usize;
+        unsafe { xs.set(r, b[r] * inv_diag[r]) };
+    });
+    colour_passes(a, inv_diag, colouring, b, xs, 1..n_colours);
 }
 
 #[cfg(test)]
