@@ -15,7 +15,7 @@ use super::interface::{push_overlaps, Frame};
 use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor, NO_CELL};
 use crate::linear::amg::Amg;
 use crate::linear::bicgstab::BiCgStab;
-use crate::linear::pcg::{normalisation, Pcg};
+use crate::linear::pcg::Pcg;
 use crate::linear::reduce::Reducer;
 use crate::linear::{par_update, Csr, Tolerance};
 
@@ -757,12 +757,6 @@ impl FastFluid {
             if !self.conditions.has_fixed_pressure {
                 w.pres.diag[0] *= 2.0;
             }
-            if corrector == 0 {
-                w.pres.multiply(&w.p_start, &mut w.ax);
-                let norm = normalisation(&w.pres, &w.prhs, &w.p_start, &w.ax, &mut self.red);
-                let (prhs, ax) = (&w.prhs, &w.ax);
-                initial_residual = self.red.sum(n, |i| (prhs[i] - ax[i]).abs()) / norm;
-            }
             // the aggregation is rebuilt only when the sparsity pattern changed (the overlap
             // links moved); otherwise only the hierarchy's values follow the new matrix
             let clock = std::time::Instant::now();
@@ -776,6 +770,10 @@ impl FastFluid {
             }
             self.counts.pressure_solves += 1;
             self.counts.pressure_iterations += stats.iterations;
+            if corrector == 0 {
+                // CG starts from p_work = p_start, so its initial residual is this corrector's
+                initial_residual = stats.initial_residual;
+            }
             if !stats.final_residual.is_finite() {
                 self.w.p_b = p_b;
                 return Err(SolverError::LinearSolve("pressure equation: residual not finite".into()));
