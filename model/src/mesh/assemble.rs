@@ -167,6 +167,7 @@ pub fn assemble(
         locator: input.locator,
     };
     mesh.update_all_geometry();
+    mesh.capture_zone_geometry();
     Ok(mesh)
 }
 
@@ -275,6 +276,7 @@ fn build_zones(
             rotation: zone.rotation.clone(),
             points,
             faces,
+            reference_geometry: None,
         });
     }
     if let Some(c) = cell_zone.iter().position(|&z| z == usize::MAX) {

@@ -131,6 +131,25 @@ pub struct CellZone {
     pub points: Vec<usize>,
     /// Faces of the zone's cells, ascending (their geometry moves with the zone).
     pub faces: Vec<usize>,
+    /// A rotating zone's geometry at angle 0, which [`Mesh::set_zone_angle`] turns.
+    #[serde(skip)]
+    pub reference_geometry: Option<ZoneGeometry>,
+}
+
+/// Geometry of a rotating zone at angle 0, aligned with its `faces` and `cells` lists. Rigid
+/// rotation carries centres, area vectors and deltas along and leaves volumes and interpolation
+/// weights unchanged, so turning this copy gives what recomputing from the turned points gives,
+/// without the per-face polygon and per-cell hexahedron decompositions and with volumes and
+/// weights exactly constant.
+#[derive(Clone, Debug, Default)]
+pub struct ZoneGeometry {
+    pub face_centres: Vec<Vec3>,
+    pub face_areas: Vec<Vec3>,
+    /// Delta of each internal face (zero for boundary faces).
+    pub face_delta: Vec<Vec3>,
+    /// Whether the face is periodic (its delta involves a shift, recomputed rather than turned).
+    pub face_periodic: Vec<bool>,
+    pub cell_centres: Vec<Vec3>,
 }
 
 /// A pair of opposite boundaries joined periodically; its faces are internal faces.

@@ -7,7 +7,7 @@
 //! is its value at the centroid. Summed over a closed cell it vanishes, ω â·Σ_f c_f × S_f = 0,
 //! the discrete space-conservation law (volumes are constant).
 
-use super::{Mesh, MeshError, Vec3, ZoneRotation};
+use super::{Mesh, MeshError, Vec3, ZoneGeometry, ZoneRotation};
 use nalgebra::{Rotation3, Unit};
 
 /// Velocity ω â × (x − x₀) of a point moving with a zone rotating at `omega` (rad/s).
@@ -29,28 +29,71 @@ impl Mesh {
     }
 
     /// Turn rotating zone `zone` to `angle` (rad, counter-clockwise about its axis) relative to
-    /// its reference geometry, and recompute the centres, areas, volumes, deltas and weights of
-    /// its cells and faces.
+    /// its reference geometry: its points, and the centres, area vectors and deltas of its cells
+    /// and faces turned from the angle-0 copy ([`super::ZoneGeometry`]; volumes and weights
+    /// are rotation invariants and stay as they are).
     pub fn set_zone_angle(&mut self, zone: usize, angle: f64) -> Result<(), MeshError> {
         if !angle.is_finite() {
             return Err(MeshError::input("zone angle", angle, "must be finite"));
         }
         let rotation = self.rotation_of(zone)?.clone();
         let turn = Rotation3::from_axis_angle(&Unit::new_normalize(rotation.axis), angle);
+        let origin = rotation.origin;
         let zone_data = &self.zones[zone];
         for &p in &zone_data.points {
-            self.points[p] = rotation.origin + turn * (self.reference_points[p] - rotation.origin);
+            self.points[p] = origin + turn * (self.reference_points[p] - origin);
         }
         let faces = std::mem::take(&mut self.zones[zone].faces);
         let cells = std::mem::take(&mut self.zones[zone].cells);
-        self.update_face_geometry(faces.iter().copied());
-        self.update_cell_geometry(cells.iter().copied());
-        self.update_interpolation(faces.iter().copied());
+        match self.zones[zone].reference_geometry.take() {
+            Some(reference) => {
+                // angle 0 is the reference itself, bit for bit
+                let place = |x: &Vec3| if angle == 0.0 { *x } else { origin + turn * (x - origin) };
+                let orient = |v: &Vec3| if angle == 0.0 { *v } else { turn * v };
+                for (k, &f) in faces.iter().enumerate() {
+                    self.face_centres[f] = place(&reference.face_centres[k]);
+                    self.face_areas[f] = orient(&reference.face_areas[k]);
+                    if f < self.n_internal_faces && !reference.face_periodic[k] {
+                        self.face_delta[f] = orient(&reference.face_delta[k]);
+                    }
+                }
+                for (k, &c) in cells.iter().enumerate() {
+                    self.cell_centres[c] = place(&reference.cell_centres[k]);
+                }
+                self.update_interpolation(faces.iter().zip(&reference.face_periodic).filter(|(_, &periodic)| periodic).map(|(&f, _)| f));
+                self.zones[zone].reference_geometry = Some(reference);
+            }
+            None => {
+                self.update_face_geometry(faces.iter().copied());
+                self.update_cell_geometry(cells.iter().copied());
+                self.update_interpolation(faces.iter().copied());
+            }
+        }
         let zone_data = &mut self.zones[zone];
         zone_data.faces = faces;
         zone_data.cells = cells;
         zone_data.rotation.as_mut().expect("checked above").angle = angle;
         Ok(())
+    }
+
+    /// Keep the current (angle-0) geometry of every rotating zone as the reference that
+    /// [`Mesh::set_zone_angle`] turns.
+    pub(crate) fn capture_zone_geometry(&mut self) {
+        for z in 0..self.zones.len() {
+            if self.zones[z].rotation.is_none() {
+                continue;
+            }
+            let zone = &self.zones[z];
+            let face_periodic: Vec<bool> = zone.faces.iter().map(|&f| f < self.n_internal_faces && self.periodic_shift_of(f) != Vec3::zeros()).collect();
+            let reference = ZoneGeometry {
+                face_centres: zone.faces.iter().map(|&f| self.face_centres[f]).collect(),
+                face_areas: zone.faces.iter().map(|&f| self.face_areas[f]).collect(),
+                face_delta: zone.faces.iter().map(|&f| if f < self.n_internal_faces { self.face_delta[f] } else { Vec3::zeros() }).collect(),
+                face_periodic,
+                cell_centres: zone.cells.iter().map(|&c| self.cell_centres[c]).collect(),
+            };
+            self.zones[z].reference_geometry = Some(reference);
+        }
     }
 
     /// Velocity of a point moving with rotating zone `zone` at angular velocity `omega`
@@ -109,8 +152,8 @@ mod tests {
         for angle in [0.3, -2.0, 17.0 * TAU + 1.1] {
             mesh.set_zone_angle(0, angle).unwrap();
             for (c, (v, v0)) in mesh.cell_volumes.iter().zip(&volumes).enumerate() {
-                // Volumes recomputed from rotated points: round-off of O(1) coordinates.
-                assert!((v - v0).abs() < 1e-14 * v0, "cell {c}: {v} vs {v0}");
+                // volumes are rotation invariants, kept from the reference geometry
+                assert_eq!(v, v0, "cell {c}");
             }
             assert_cells_closed(&mesh);
             assert_internal_faces_oriented(&mesh);
@@ -124,6 +167,37 @@ mod tests {
             let expected = Rotation3::from_axis_angle(&Vec3::z_axis(), angle) * reference;
             assert!((mesh.cell_centres[0] - expected).norm() < 1e-14);
         }
+    }
+
+    #[test]
+    fn turned_reference_geometry_is_the_geometry_of_the_turned_points() {
+        let mut mesh = Mesh::rotor_stator(&rotor_stator()).unwrap();
+        for angle in [0.3, -2.0, 17.0 * TAU + 1.1] {
+            mesh.set_zone_angle(0, angle).unwrap();
+            let mut recomputed = mesh.clone();
+            recomputed.update_all_geometry();
+            // O(1) coordinates: the two routes differ by the round-off of a few operations
+            let close = |a: &[Vec3], b: &[Vec3], what: &str| {
+                for (k, (x, y)) in a.iter().zip(b).enumerate() {
+                    assert!((x - y).norm() <= 1e-14 * (1.0 + y.norm()), "{what} {k}: {x} vs {y}");
+                }
+            };
+            close(&mesh.face_centres, &recomputed.face_centres, "face centre");
+            close(&mesh.face_areas, &recomputed.face_areas, "face area");
+            close(&mesh.face_delta, &recomputed.face_delta, "face delta");
+            close(&mesh.cell_centres, &recomputed.cell_centres, "cell centre");
+            for (k, (w, v)) in mesh.face_weight.iter().zip(&recomputed.face_weight).enumerate() {
+                assert!((w - v).abs() < 1e-13, "face weight {k}: {w} vs {v}");
+            }
+            for (k, (w, v)) in mesh.cell_volumes.iter().zip(&recomputed.cell_volumes).enumerate() {
+                assert!((w - v).abs() < 1e-14 * v, "cell volume {k}: {w} vs {v}");
+            }
+        }
+        mesh.set_zone_angle(0, 0.0).unwrap();
+        let fresh = Mesh::rotor_stator(&rotor_stator()).unwrap();
+        assert_eq!(mesh.face_centres, fresh.face_centres);
+        assert_eq!(mesh.cell_centres, fresh.cell_centres);
+        assert_eq!(mesh.face_delta, fresh.face_delta);
     }
 
     #[test]
