@@ -1,58 +1,88 @@
 //! Square sparse matrix in compressed-row form with the diagonal kept apart (the PISO algorithm
-//! reads A, the diagonal, on its own).
-
+//! reads A, the diagonal, on its own), stored in f64 (the equations) or f32 (the multigrid
+//! preconditioner's copies, [`super::amg`]). Every kernel computes in f64 whatever the storage;
+//! on f64 data the conversions are the identity, so the bits are those of plain f64 code.
 
 use super::reduce::Reducer;
 use super::{par_update, Out};
 
+/// Storage type of matrix and vector entries: f64, or f32 where half the bytes are worth more
+/// than the digits (a preconditioner only has to approximate).
+pub trait Real: Copy + Default + PartialEq + PartialOrd + Send + Sync + std::fmt::Debug + 'static {
+    fn get(self) -> f64;
+    fn put(x: f64) -> Self;
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn get(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn put(x: f64) -> Self {
+        x
+    }
+}
+
+impl Real for f32 {
+    #[inline(always)]
+    fn get(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn put(x: f64) -> Self {
+        x as f32
+    }
+}
+
 #[derive(Clone, Debug, Default)]
-pub struct Csr {
+pub struct Csr<T = f64> {
     pub n: usize,
     /// Row r holds off-diagonal entries `row_start[r]..row_start[r + 1]`.
     pub row_start: Vec<u32>,
     pub col: Vec<u32>,
-    pub val: Vec<f64>,
-    pub diag: Vec<f64>,
+    pub val: Vec<T>,
+    pub diag: Vec<T>,
 }
 
-impl Csr {
+impl<T: Real> Csr<T> {
     /// Σ_j a_rj x_j over the off-diagonal entries of row r.
     #[inline(always)]
-    pub fn row_off_diagonal(&self, r: usize, x: &[f64]) -> f64 {
+    pub fn row_off_diagonal<V: Real>(&self, r: usize, x: &[V]) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
         let mut s = 0.0;
         for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
-            s += v * x[c as usize];
+            s += v.get() * x[c as usize].get();
         }
         s
     }
 
     /// y = A x.
-    pub fn multiply(&self, x: &[f64], y: &mut [f64]) {
-        par_update(&mut y[..], |r, y| *y = self.diag[r] * x[r] + self.row_off_diagonal(r, x));
+    pub fn multiply<V: Real>(&self, x: &[V], y: &mut [V]) {
+        par_update(y, |r, y| *y = V::put(self.diag[r].get() * x[r].get() + self.row_off_diagonal(r, x)));
     }
 
     /// y = A x and, in the same pass, the two sums Σᵢ f(i, yᵢ) (fixed-chunk reduction: the same
     /// bits on any number of threads).
-    pub fn multiply_sum2(&self, x: &[f64], y: &mut [f64], red: &mut Reducer, f: impl Fn(usize, f64) -> [f64; 2] + Sync) -> [f64; 2] {
+    pub fn multiply_sum2<V: Real>(&self, x: &[V], y: &mut [V], red: &mut Reducer, f: impl Fn(usize, f64) -> [f64; 2] + Sync) -> [f64; 2] {
         assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
         let ys = Out::of(y);
         red.sum2(self.n, |r| {
-            let yr = self.diag[r] * x[r] + self.row_off_diagonal(r, x);
+            let yr = V::put(self.diag[r].get() * x[r].get() + self.row_off_diagonal(r, x));
             // SAFETY: r < n; the reduction's chunks visit every row exactly once
             unsafe { ys.set(r, yr) };
-            f(r, yr)
+            f(r, yr.get())
         })
     }
 
     /// y = (A − D) x.
-    pub fn multiply_off_diagonal(&self, x: &[f64], y: &mut [f64]) {
-        par_update(&mut y[..], |r, y| *y = self.row_off_diagonal(r, x));
+    pub fn multiply_off_diagonal<V: Real>(&self, x: &[V], y: &mut [V]) {
+        par_update(y, |r, y| *y = V::put(self.row_off_diagonal(r, x)));
     }
 
     /// Row sums Σ_j a_rj (diagonal included): A·1.
     pub fn row_sum(&self, r: usize) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
-        self.diag[r] + self.val[lo..hi].iter().sum::<f64>()
+        self.diag[r].get() + self.val[lo..hi].iter().map(|v| v.get()).sum::<f64>()
     }
 }

@@ -8,7 +8,7 @@
 //! dependency chain from row to row, and no division (the inverse diagonal is stored).
 
 
-use super::csr::Csr;
+use super::csr::{Csr, Real};
 use super::{par_range, par_update, Out};
 
 /// Rows grouped by colour: colour k holds rows `order[start[k]..start[k + 1]]` (ascending).
@@ -22,7 +22,7 @@ pub struct Colouring {
 
 impl Colouring {
     /// Greedy first-fit colouring of the graph of `a` in row order (deterministic).
-    pub fn build(&mut self, a: &Csr) {
+    pub fn build<T: Real>(&mut self, a: &Csr<T>) {
         let n = a.n;
         self.colour.clear();
         self.colour.resize(n, u32::MAX);
@@ -73,14 +73,14 @@ impl Colouring {
 }
 
 /// 1/diag of `a` into `inv`.
-pub fn inverse_diagonal(a: &Csr, inv: &mut Vec<f64>) {
-    inv.resize(a.n, 0.0);
-    par_update(&mut inv[..], |i, v| *v = 1.0 / a.diag[i]);
+pub fn inverse_diagonal<T: Real>(a: &Csr<T>, inv: &mut Vec<T>) {
+    inv.resize(a.n, T::default());
+    par_update(&mut inv[..], |i, v| *v = T::put(1.0 / a.diag[i].get()));
 }
 
 /// One Gauss–Seidel sweep on A x = b in colour order (`forward`) or reverse colour order,
 /// updating x in place.
-pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mut [f64], forward: bool) {
+pub fn sweep<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], x: &mut [V], forward: bool) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
     let xs = Out::of(x);
@@ -92,20 +92,20 @@ pub fn sweep(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mu
 }
 
 /// The Gauss–Seidel update of the rows of each colour in `colours`, one colour after the other.
-fn colour_passes(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], xs: Out<f64>, colours: impl Iterator<Item = usize>) {
+fn colour_passes<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], xs: Out<V>, colours: impl Iterator<Item = usize>) {
     for k in colours {
         let rows = &colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize];
         par_range(rows.len(), |i| {
             let r = rows[i] as usize;
             let (lo, hi) = (a.row_start[r] as usize, a.row_start[r + 1] as usize);
-            let mut s = b[r];
+            let mut s = b[r].get();
             for (&c, &v) in a.col[lo..hi].iter().zip(&a.val[lo..hi]) {
                 // SAFETY: c < n (a column of `a`); rows of another colour are not written
                 // during this colour's pass, so the read does not race with a write
-                s -= v * unsafe { *xs.ptr(c as usize) };
+                s -= v.get() * unsafe { *xs.ptr(c as usize) }.get();
             }
             // SAFETY: r < n and row r is written by this task only
-            unsafe { xs.set(r, s * inv_diag[r]) };
+            unsafe { xs.set(r, V::put(s * inv_diag[r].get())) };
         });
     }
 }
@@ -113,18 +113,18 @@ fn colour_passes(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], xs
 /// Forward sweep from x = 0. The first colour's neighbours are all still zero, so its rows are
 /// x = b / diag without reading the matrix (the same bits as the full sweep: b − Σ a·0 = b), and
 /// only the rows of the third and later colours need zeroing before the later colours read them.
-pub fn sweep_from_zero(a: &Csr, inv_diag: &[f64], colouring: &Colouring, b: &[f64], x: &mut [f64]) {
+pub fn sweep_from_zero<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], x: &mut [V]) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
     let xs = Out::of(x);
     let rows_from = |k: usize| &colouring.order[colouring.start[k.min(n_colours)] as usize..];
     let later = rows_from(2);
     // SAFETY (both loops): every row index is < n and appears once in the colour order
-    par_range(later.len(), |i| unsafe { xs.set(later[i] as usize, 0.0) });
+    par_range(later.len(), |i| unsafe { xs.set(later[i] as usize, V::default()) });
     let first = &colouring.order[..colouring.start[1.min(n_colours)] as usize];
     par_range(first.len(), |i| {
         let r = first[i] as usize;
-        unsafe { xs.set(r, b[r] * inv_diag[r]) };
+        unsafe { xs.set(r, V::put(b[r].get() * inv_diag[r].get())) };
     });
     colour_passes(a, inv_diag, colouring, b, xs, 1..n_colours);
 }
