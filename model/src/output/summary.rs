@@ -11,7 +11,7 @@ use std::path::Path;
 pub struct Versions {
     /// Version of `spillage-model` (the workspace version).
     pub crate_version: String,
-    /// Git commit, when the build set `SPILLAGE_GIT_HASH` (e.g. from a build script or CI).
+    /// Git commit of the build (set by `model/build.rs` from the checkout; absent outside one).
     pub git_hash: Option<String>,
 }
 
@@ -127,6 +127,23 @@ mod tests {
         assert!(
             value["versions"]["git_hash"].is_null() || value["versions"]["git_hash"].is_string()
         );
+    }
+
+    #[test]
+    fn a_build_from_a_git_checkout_records_its_commit() {
+        // The build script reruns when the branch moves, so the recorded commit is the checkout's.
+        let head = std::process::Command::new("git")
+            .args(["rev-parse", "HEAD"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .ok()
+            .filter(|out| out.status.success())
+            .map(|out| String::from_utf8_lossy(&out.stdout).trim().to_string());
+        let recorded = Versions::of_this_build().git_hash;
+        match (head, std::env::var_os("SPILLAGE_GIT_HASH")) {
+            (Some(head), None) => assert_eq!(recorded.as_deref(), Some(head.as_str())),
+            _ => assert!(recorded.is_none_or(|hash| !hash.is_empty())),
+        }
     }
 
     #[test]
