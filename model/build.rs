@@ -20,15 +20,21 @@ fn main() {
     if std::env::var_os("SPILLAGE_GIT_HASH").is_some() {
         return;
     }
-    let (Some(git_dir), Some(hash)) = (git(&["rev-parse", "--absolute-git-dir"]), git(&["rev-parse", "HEAD"])) else {
+    let Some(hash) = git(&["rev-parse", "HEAD"]) else {
         return;
     };
-    // A new commit moves the branch ref (or packed-refs), a checkout moves HEAD: either reruns this.
-    let git_dir = PathBuf::from(git_dir);
-    println!("cargo:rerun-if-changed={}", git_dir.join("HEAD").display());
-    println!("cargo:rerun-if-changed={}", git_dir.join("packed-refs").display());
-    if let Some(branch_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
-        println!("cargo:rerun-if-changed={}", git_dir.join(branch_ref).display());
+    // A new commit moves the branch ref (a loose file, or packed-refs after a gc), a checkout
+    // moves HEAD: watching them reruns this. Only files that exist are watched (cargo reruns a
+    // build script on every build while a watched file is missing); `--git-path` finds the
+    // shared refs of a worktree.
+    let mut watched = vec!["HEAD".to_string(), "packed-refs".to_string()];
+    watched.extend(git(&["symbolic-ref", "-q", "HEAD"]));
+    for name in watched {
+        if let Some(path) = git(&["rev-parse", "--path-format=absolute", "--git-path", &name]).map(PathBuf::from) {
+            if path.is_file() {
+                println!("cargo:rerun-if-changed={}", path.display());
+            }
+        }
     }
     println!("cargo:rustc-env=SPILLAGE_GIT_HASH={hash}");
 }
