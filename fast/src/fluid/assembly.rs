@@ -10,7 +10,7 @@ use super::layout::{Adjacency, Boundary, Links};
 
 pub use crate::linear::Out;
 
-/// Runs `f(c)` for every index in parallel (minimum [`CHUNK`] per task).
+/// Runs `f(c)` for every index in parallel (as [`crate::linear::par_range`]).
 #[inline]
 pub fn par_for(n: usize, f: impl Fn(usize) + Sync + Send) {
     crate::linear::par_range(n, f);
