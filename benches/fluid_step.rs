@@ -20,6 +20,7 @@ use spillage_fast::linear::{amg::Amg, pcg::Pcg, Csr, Tolerance};
 use spillage_model::case::Case;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
+use spillage_model::step::{Coupled, FluidOnly};
 use spillage_reference::fluid::ReferenceFluid;
 
 #[path = "common/triad.rs"]
@@ -38,14 +39,18 @@ fn large() -> bool {
     std::env::var("SPILLAGE_BENCH_LARGE").is_ok_and(|v| v != "0")
 }
 
-fn fast_solver(case: &Case) -> FastFluid {
+fn fast_solver(case: &Case) -> FluidOnly<FastFluid> {
     let mesh = spillage::verify::fluid::build_mesh(case).expect("mesh");
-    FastFluid::new(case, mesh, State::default()).expect("fast solver").with_settings(settings())
+    let mut state = State::default();
+    let fluid = FastFluid::new(case, mesh, &mut state).expect("fast solver").with_settings(settings());
+    Coupled::fluid_only(case, state, fluid).expect("fast run")
 }
 
-fn reference_solver(case: &Case) -> ReferenceFluid {
+fn reference_solver(case: &Case) -> FluidOnly<ReferenceFluid> {
     let mesh = spillage::verify::fluid::build_mesh(case).expect("mesh");
-    ReferenceFluid::new(case, mesh, State::default()).expect("reference solver")
+    let mut state = State::default();
+    let fluid = ReferenceFluid::new(case, mesh, &mut state).expect("reference solver");
+    Coupled::fluid_only(case, state, fluid).expect("reference run")
 }
 
 /// Seconds per step over `steps` steps after 2 warm-up steps.
@@ -248,7 +253,7 @@ fn main() {
         let case = lid(n);
         let mut solver = fast_solver(&case);
         let t = pool(1).install(|| time_steps(&mut solver, steps));
-        eprintln!("{:?}", solver.last_counts());
+        eprintln!("{:?}", solver.fluid_phase().expect("fluid").last_counts());
         println!("fast_s_per_step {t:.6e} cells {}", n * n);
         return;
     }

@@ -16,6 +16,7 @@ use spillage_model::output::series::{read_series, SeriesWriter};
 use spillage_model::output::summary::Summary;
 use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
+use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
 
 use crate::frames::Frames;
 
@@ -29,30 +30,36 @@ pub struct RunOptions {
     pub restart: Option<PathBuf>,
 }
 
-
-/// Builds the solver a case needs, from the initial state or a restart state.
-fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
+/// Builds the run a case needs, from the initial state or a restart state: the step driver
+/// with the case's fluid phase (fast or reference) and particle phase (the reference DEM; the
+/// fast DEM does not exist yet).
+pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
     let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
-    if case.fluid.is_none() && case.particles.is_some() {
-        if choice == SolverChoice::Fast {
-            eprintln!("note: the fast DEM does not exist yet; running the reference DEM");
+    let mut state = state.unwrap_or_default();
+    let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, &case.mesh) {
+        (Some(_), Some(section)) => {
+            let mesh = spillage_model::mesh::build(section).map_err(|e| anyhow::anyhow!("{}: [mesh]: {e}", case.path.display()))?;
+            Some(match choice {
+                SolverChoice::Fast => Box::new(spillage_fast::fluid::FastFluid::new(case, mesh, &mut state).map_err(located)?),
+                SolverChoice::Reference => Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, &mut state).map_err(located)?),
+            })
         }
-        return Ok(Box::new(spillage_reference::dem::ReferenceDem::new(case, state.unwrap_or_default()).map_err(located)?));
+        (Some(_), None) => anyhow::bail!("{}: a case with [fluid] needs a [mesh]", case.path.display()),
+        (None, _) => None,
+    };
+    let particles: Option<Box<dyn ParticlePhase>> = match &case.particles {
+        Some(_) => {
+            if choice == SolverChoice::Fast {
+                eprintln!("note: the fast DEM does not exist yet; the particles run on the reference DEM");
+            }
+            Some(Box::new(spillage_reference::dem::ReferenceDem::new(case, &mut state).map_err(located)?))
+        }
+        None => None,
+    };
+    if fluid.is_some() && particles.is_some() {
+        eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles yet");
     }
-    if let (Some(section), None) = (&case.mesh, &case.particles) {
-        let mesh = spillage_model::mesh::build(section).map_err(|e| anyhow::anyhow!("{}: [mesh]: {e}", case.path.display()))?;
-        let state = state.unwrap_or_default();
-        return Ok(match choice {
-            SolverChoice::Fast => Box::new(spillage_fast::fluid::FastFluid::new(case, mesh, state).map_err(located)?),
-            SolverChoice::Reference => Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, state).map_err(located)?),
-        });
-    }
-    anyhow::bail!(
-        "{}: no solver for this case yet (fluid: {}, particles: {})",
-        case.path.display(),
-        case.fluid.is_some(),
-        case.particles.is_some()
-    )
+    Ok(Box::new(Coupled::new(case, state, fluid, particles).map_err(located)?))
 }
 
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
@@ -151,7 +158,11 @@ impl Running<'_> {
         match (t.steps, t.end_time) {
             (Some(n), _) => state.step >= n,
             // Half a step of slack so round-off in the accumulated time never adds a step.
-            (None, Some(end)) => state.time >= end - 0.5 * t.dt.unwrap_or(state.dt).max(0.0),
+            (None, Some(end)) => match t.dt {
+                Some(dt) => state.time >= end - 0.5 * dt,
+                // the adaptive step lands on end_time; the sum of the steps may miss it by round-off
+                None => state.time >= end - 1e-12 * end.abs(),
+            },
             (None, None) => true,
         }
     }

@@ -13,6 +13,7 @@ use spillage_model::case::Case;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::state_diff::diff;
+use spillage_model::step::Coupled;
 use spillage_reference::fluid::ReferenceFluid;
 
 /// Agreement required after every step (issue #6).
@@ -56,8 +57,11 @@ fn compare(name: &str) {
 
 fn compare_case(name: &str, c: Case) {
     let mesh = spillage::verify::fluid::build_mesh(&c).unwrap();
-    let mut reference = ReferenceFluid::new(&c, mesh.clone(), State::default()).unwrap();
-    let mut fast = FastFluid::new(&c, mesh, State::default()).unwrap();
+    let (mut s_ref, mut s_fast) = (State::default(), State::default());
+    let reference = ReferenceFluid::new(&c, mesh.clone(), &mut s_ref).unwrap();
+    let fast = FastFluid::new(&c, mesh, &mut s_fast).unwrap();
+    let mut reference = Coupled::fluid_only(&c, s_ref, reference).unwrap();
+    let mut fast = Coupled::fluid_only(&c, s_fast, fast).unwrap();
     let mut worst: f64 = 0.0;
     let mut worst_report = String::new();
     for step in 1..=STEPS {
@@ -153,7 +157,9 @@ fn one_and_two_threads_give_identical_bits() {
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pool.install(|| {
-                let mut s = FastFluid::new(&c, mesh.clone(), State::default()).unwrap();
+                let mut state = State::default();
+                let fluid = FastFluid::new(&c, mesh.clone(), &mut state).unwrap();
+                let mut s = Coupled::fluid_only(&c, state, fluid).unwrap();
                 let mut reports = Vec::new();
                 for _ in 0..20 {
                     reports.push(s.step().unwrap().values.iter().map(|v| v.1.to_bits()).collect::<Vec<u64>>());

@@ -13,6 +13,7 @@ use spillage_fast::fluid::{FastFluid, FastSettings};
 use spillage_fast::linear::Tolerance;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
+use spillage_model::step::{Coupled, FluidOnly};
 
 #[allow(dead_code)]
 #[path = "../../benches/common/cases.rs"]
@@ -32,14 +33,16 @@ fn main() {
     let mesh = spillage_model::mesh::build(case.mesh.as_ref().expect("mesh")).expect("mesh");
     let cells = mesh.n_cells();
     let t = Tolerance { tolerance: 1e-7, max_iterations: 1000 };
-    let mut solver = FastFluid::new(&case, mesh, State::default()).expect("fast solver").with_settings(FastSettings { pressure: t, momentum: t });
+    let mut state = State::default();
+    let fluid = FastFluid::new(&case, mesh, &mut state).expect("fast solver").with_settings(FastSettings { pressure: t, momentum: t });
+    let mut solver = Coupled::new(&case, state, Some(fluid), None).expect("run");
     let threads: usize = std::env::var("THREADS").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
     // inside the pool, as the bench: parallel loops start on a worker, not by a cross-thread hand-off
     pool.install(|| run(kind, n, steps, cells, &mut solver));
 }
 
-fn run(kind: &str, n: usize, steps: usize, cells: usize, solver: &mut FastFluid) {
+fn run(kind: &str, n: usize, steps: usize, cells: usize, solver: &mut FluidOnly<FastFluid>) {
     let t0 = Instant::now();
     for _ in 0..2 {
         solver.step().expect("step");
@@ -50,7 +53,7 @@ fn run(kind: &str, n: usize, steps: usize, cells: usize, solver: &mut FastFluid)
     let mut m_it = 0;
     for _ in 0..steps {
         solver.step().expect("step");
-        let c = solver.last_counts();
+        let c = solver.fluid_phase().expect("fluid").last_counts();
         p_it += c.pressure_iterations;
         m_it += c.momentum_iterations;
         eprintln!(
@@ -65,7 +68,7 @@ fn run(kind: &str, n: usize, steps: usize, cells: usize, solver: &mut FastFluid)
             (c.step_seconds - c.pressure_seconds - c.amg_setup_seconds - c.momentum_seconds) * 1e3
         );
     }
-    eprintln!("pressure levels (rows, off-diagonals, colours): {:?}", solver.pressure_levels());
+    eprintln!("pressure levels (rows, off-diagonals, colours): {:?}", solver.fluid_phase().expect("fluid").pressure_levels());
     let per = t1.elapsed().as_secs_f64() / steps as f64;
     println!(
         "{kind} {n}: {cells} cells, warm-up {:.1} ms/step, {:.2} ms/step = {:.2} µs/cell-step; per step {:.1} pressure and {:.1} momentum iterations",

@@ -12,7 +12,9 @@ use std::path::{Path, PathBuf};
 use crate::state::State;
 
 const MAGIC: &str = "spillage-checkpoint";
-const VERSION: u32 = 1;
+/// 2: the one-step pipeline (rotor pose stored once, walls without their own angle, particle
+/// exits, the last Courant number).
+const VERSION: u32 = 2;
 
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {
@@ -20,7 +22,7 @@ pub enum CheckpointError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: not a spillage checkpoint (header {found:?})")]
     NotACheckpoint { path: PathBuf, found: String },
-    #[error("{path}: checkpoint format version {found}, this program reads version {VERSION}")]
+    #[error("{path}: checkpoint format version {found}, this program reads version {VERSION} only (checkpoints written before the one-step pipeline cannot be continued; rerun from the start)")]
     Version { path: PathBuf, found: String },
     #[error("{path}: checkpoint of case {found:?}, but the case being run is {expected:?}")]
     WrongCase { path: PathBuf, found: String, expected: String },

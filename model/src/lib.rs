@@ -14,5 +14,6 @@ pub mod particles;
 pub mod solver;
 pub mod state;
 pub mod state_diff;
+pub mod step;
 pub mod walls;
 pub mod wear;

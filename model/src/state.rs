@@ -13,8 +13,12 @@ pub struct State {
     pub step: u64,
     /// Time step used for the last step [s] (needed by BDF2 after a restart).
     pub dt: f64,
-    /// Rotor angle [rad].
+    /// Rotor angle [rad]: the one stored copy of the rotor pose's angle (the mesh zone and the
+    /// rotor walls are placed from it, [`crate::step::RotorPose`]).
     pub rotor_angle: f64,
+    /// Largest Courant number of the last step (the adaptive Δt of the next step follows from
+    /// it, so a restart continues with the same steps).
+    pub courant: f64,
     pub fluid: Option<FluidState>,
     pub particles: Option<ParticleState>,
     pub walls: Option<WallState>,

@@ -11,10 +11,12 @@ use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::particles::settings::MaterialSection;
 use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{initial_state, Particle, ParticleState};
-use spillage_model::solver::Solver;
+use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
+use spillage_model::step::{Coupled, ParticlesOnly, RotorPose};
 use spillage_model::walls::settings::ShapeSection;
-use spillage_reference::dem::ReferenceDem;
+use spillage_model::walls::state::WallState;
+use spillage_reference::dem::{ContactSample, ReferenceDem};
 
 use super::CheckRow;
 
@@ -69,9 +71,59 @@ fn first_plane(case: &Case) -> anyhow::Result<(Vec3, Vec3)> {
     }
 }
 
-fn solver(case: &Case, particles: ParticleState) -> anyhow::Result<ReferenceDem> {
-    let state = State { particles: Some(particles), ..Default::default() };
-    ReferenceDem::new(case, state).map_err(|e| anyhow!("{}: {e}", case.path.display()))
+/// The reference DEM on a particle-only run of the step driver, with access below the step:
+/// the impact checks drive single sub-steps and watch every one.
+struct DemRig {
+    run: ParticlesOnly<ReferenceDem>,
+    /// The rotor at angle 0 (sub-steps place the rotor walls at ω t).
+    rotor: Option<RotorPose>,
+}
+
+impl DemRig {
+    fn dem(&self) -> &ReferenceDem {
+        self.run.particle_phase().expect("a particle run")
+    }
+    fn particle_state(&self) -> &ParticleState {
+        self.run.state().particles.as_ref().expect("a particle run")
+    }
+    fn particles(&self) -> &[Particle] {
+        &self.particle_state().particles
+    }
+    fn walls(&self) -> &WallState {
+        self.run.state().walls.as_ref().expect("a particle run")
+    }
+    fn step(&mut self) -> Result<StepReport, SolverError> {
+        self.run.step()
+    }
+    fn substeps_for(&self, dt: f64) -> u64 {
+        self.dem().substeps_for(dt, self.particles(), self.walls())
+    }
+    fn collision_time(&self) -> f64 {
+        self.dem().collision_time(self.particles(), self.walls())
+    }
+    fn contact_samples(&self) -> &[ContactSample] {
+        self.dem().contact_samples()
+    }
+    fn kinetic_energy(&self) -> f64 {
+        self.particles().iter().map(|p| p.kinetic_energy()).sum()
+    }
+    /// One DEM sub-step from `t`, the particles seeing `fluid`.
+    fn substep(&mut self, t: f64, dt: f64, fluid: &dyn Fn(&Particle) -> Option<FluidAtParticle>) {
+        let rotor_end = self.rotor.map(|r| r.advanced(t + dt));
+        let (_, dem, state) = self.run.parts_mut();
+        let dem = dem.expect("a particle run");
+        let (particles, walls) = (state.particles.as_mut().expect("a particle run"), state.walls.as_mut().expect("a particle run"));
+        dem.substep(particles, walls, t, dt, rotor_end.as_ref(), &|_, p| fluid(p));
+    }
+}
+
+fn solver(case: &Case, particles: ParticleState) -> anyhow::Result<DemRig> {
+    let located = |e: SolverError| anyhow!("{}: {e}", case.path.display());
+    let mut state = State { particles: Some(particles), ..Default::default() };
+    let mut dem = ReferenceDem::new(case, &mut state).map_err(located)?;
+    dem.load_history(state.particles.as_ref().expect("set above"));
+    let run = Coupled::new(case, state, None, Some(dem)).map_err(located)?;
+    Ok(DemRig { run, rotor: RotorPose::from_case(case, 0.0) })
 }
 
 fn particles(case: &Case) -> anyhow::Result<ParticleState> {
@@ -112,7 +164,7 @@ fn parabolic_peak(y: &[f64], k: usize) -> f64 {
 /// Runs sub-steps of the solver's own size (from time.dt and T3.105–106) until one contact has
 /// come and gone. `overlap` and `normal_velocity` (relative, positive = approaching) are
 /// measured from the particles' geometry, not from the solver's contact records.
-fn run_impact(dem: &mut ReferenceDem, case: &Case, overlap: &dyn Fn(&[Particle]) -> f64, approach_velocity: &dyn Fn(&[Particle]) -> f64, fluid: &dyn Fn(&Particle) -> Option<FluidAtParticle>) -> anyhow::Result<Impact> {
+fn run_impact(dem: &mut DemRig, case: &Case, overlap: &dyn Fn(&[Particle]) -> f64, approach_velocity: &dyn Fn(&[Particle]) -> f64, fluid: &dyn Fn(&Particle) -> Option<FluidAtParticle>) -> anyhow::Result<Impact> {
     let outer = case.time.dt.ok_or_else(|| anyhow!("{}: needs time.dt", case.path.display()))?;
     let dt = outer / dem.substeps_for(outer) as f64;
     let mut impact = Impact::default();

@@ -14,6 +14,7 @@ use spillage_model::fluid::settings::{BoundaryCondition, InitialVelocity};
 use spillage_model::mesh::{Mesh, Vec3};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
+use spillage_model::step::{Coupled, FluidOnly};
 use spillage_reference::fluid::ReferenceFluid;
 
 use super::CheckRow;
@@ -53,9 +54,11 @@ struct RunSummary {
 }
 
 /// Runs the reference fluid solver to `case.time.end_time` (or `steps`).
-fn run(case: &Case) -> Result<(ReferenceFluid, RunSummary)> {
+fn run(case: &Case) -> Result<(FluidOnly<ReferenceFluid>, RunSummary)> {
     let mesh = build_mesh(case)?;
-    let mut solver = ReferenceFluid::new(case, mesh, State::default())?;
+    let mut state = State::default();
+    let fluid = ReferenceFluid::new(case, mesh, &mut state)?;
+    let mut solver = Coupled::new(case, state, Some(fluid), None)?;
     let dt = case.time.dt.ok_or_else(|| anyhow!("the check needs a fixed [time] dt"))?;
     let steps = match (case.time.steps, case.time.end_time) {
         (Some(n), _) => n,
@@ -214,9 +217,9 @@ fn couette_errors(case: &Case) -> Result<CouetteErrors> {
     };
     let exact = CouetteExact::new(r1, r2, wall_omega(case, "inner")?, wall_omega(case, "outer")?);
     let (solver, summary) = run(case)?;
-    let mesh = solver.mesh();
+    let mesh = solver.mesh().expect("a fluid run");
     let fluid = solver.state().fluid.as_ref().expect("fluid state");
-    let grad_p = solver.pressure_gradient();
+    let grad_p = solver.fluid_phase().expect("a fluid run").pressure_gradient(fluid);
 
     // azimuthal averages over rings of cells with the same centroid radius
     let mut rows: Vec<(f64, f64, f64, f64)> = (0..mesh.cell_volumes.len())
@@ -403,7 +406,7 @@ fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let n_y = level[0] as usize;
         let c = with_dt(&box_level(case, n_y, drive == "inlet")?, dt);
         let (solver, _) = run(&c)?;
-        let mesh = solver.mesh();
+        let mesh = solver.mesh().expect("a fluid run");
         let fluid = solver.state().fluid.as_ref().expect("fluid state");
         let h = height / n_y as f64;
         let (mut sum2, mut count, mut max_err, mut u_max) = (0.0, 0usize, 0.0f64, 0.0f64);
@@ -476,7 +479,7 @@ fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let ke0: f64 = u0.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * u.norm_squared() * v).sum();
         let (solver, summary) = run(&c)?;
         let t = solver.state().time;
-        let mesh = solver.mesh();
+        let mesh = solver.mesh().expect("a fluid run");
         let f = solver.state().fluid.as_ref().expect("fluid state");
         let decay = (-2.0 * nu * t / (length * length)).exp();
         let ke: f64 = f.velocity.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * Vec3::from(*u).norm_squared() * v).sum();

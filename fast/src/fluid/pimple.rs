@@ -3,11 +3,14 @@
 
 use rayon::prelude::*;
 use spillage_model::case::Case;
-use spillage_model::fluid::settings::{NumericsSection, PressureWallCondition, TimeScheme};
+use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::fluid::settings::{NumericsSection, PressureWallCondition};
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
-use spillage_model::solver::{Solver, SolverError, StepReport};
+use spillage_model::particles::Particle;
+use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
+use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
 
 use super::assembly::*;
 use super::conditions::{Condition, Conditions};
@@ -118,16 +121,27 @@ struct Work {
     face_used: Vec<bool>,
 }
 
-/// The fast fluid solver.
+/// The fast fluid solver, a fluid phase of the step driver ([`spillage_model::step::Coupled`]).
 pub struct FastFluid {
     mesh: Mesh,
-    state: State,
+    /// The fluid state being advanced: swapped in from the driver's state for the duration of
+    /// a step ([`FluidPhase::advance`]; a swap of vectors, no copy), empty between steps.
+    fluid: FluidState,
+    /// Step number and tⁿ⁺¹ of the step being taken (error messages).
+    step_number: u64,
+    step_time_end: f64,
+    /// Time coefficients of the step being taken.
+    time_coefficients: [f64; 3],
+    /// Δt of the last step (sampling's local acceleration).
+    dt_old: f64,
     conditions: Conditions,
     numerics: NumericsSection,
     nu: f64,
+    density: f64,
     body_force: Vec3,
     rotor: Option<Rotor>,
     frame: Option<Frame>,
+    /// Δt of the step being taken.
     dt: f64,
     settings: FastSettings,
     in_rotor: Vec<bool>,
@@ -163,9 +177,8 @@ fn unsupported(msg: impl Into<String>) -> SolverError {
 impl FastFluid {
     /// Sets up the solver for `case` on `mesh` (as `ReferenceFluid::new`: without a fluid state
     /// the fluid starts from the case's initial velocity, zero pressure, α_c = 1).
-    pub fn new(case: &Case, mesh: Mesh, mut state: State) -> Result<Self, SolverError> {
+    pub fn new(case: &Case, mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
         let fluid = case.fluid.as_ref().ok_or_else(|| unsupported("the case has no [fluid] section"))?;
-        let dt = case.time.dt.ok_or_else(|| unsupported("the fast fluid solver needs a fixed time step `[time] dt` (max_courant is not supported yet)"))?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let mut body_force = Vec3::from(numerics.body_force);
@@ -245,14 +258,19 @@ impl FastFluid {
         let solved = solved_components(&mesh);
         let mut solver = FastFluid {
             mesh,
-            state,
+            fluid: FluidState::default(),
+            step_number: state.step,
+            step_time_end: state.time,
+            time_coefficients: [1.0, -1.0, 0.0],
+            dt_old: state.dt,
             conditions,
             numerics,
             nu: fluid.kinematic_viscosity,
+            density: fluid.density,
             body_force,
             rotor,
             frame,
-            dt,
+            dt: 0.0,
             settings: FastSettings::from_numerics(&case.numerics),
             in_rotor,
             moving_faces,
@@ -359,35 +377,33 @@ impl FastFluid {
         (0..links.len()).all(|l| links.non_orthogonal[l].norm_squared() <= 1e-24 * links.area[l].norm_squared())
     }
 
-    fn time_coefficients(&self) -> [f64; 3] {
-        if self.state.step == 0 || self.numerics.time_scheme == TimeScheme::Euler || self.state.dt <= 0.0 {
-            [1.0, -1.0, 0.0]
-        } else {
-            let r = self.dt / self.state.dt;
-            [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
+    /// Turns the rotor zone to the pose's angle (from its reference geometry), takes the pose's
+    /// motion and updates the moving link and boundary geometry in place.
+    fn turn_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
+        if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
+            r.axis = pose.axis;
+            r.origin = pose.origin;
+            r.omega = pose.omega;
+            self.mesh.set_zone_angle(r.zone, pose.angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
+            for &f in &self.moving_faces {
+                self.links.update_face(&self.mesh, f, self.rotor.as_ref(), &self.in_rotor);
+            }
+            self.boundary.update(&self.mesh, self.rotor.as_ref(), &self.in_rotor);
         }
+        Ok(())
     }
 
-    fn advance(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
+    fn advance_timed(&mut self, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
         let clock = std::time::Instant::now();
         let result = self.advance_inner(report);
         self.counts.step_seconds = clock.elapsed().as_secs_f64();
         result
     }
 
-    fn advance_inner(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
+    fn advance_inner(&mut self, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
         let dt = self.dt;
-        let tc = self.time_coefficients();
-        // step 2: turn the rotor, update the moving geometry in place, rebuild the overlaps
-        if let Some(r) = &self.rotor {
-            let angle = self.state.rotor_angle + r.omega * dt;
-            self.mesh.set_zone_angle(r.zone, angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
-            self.state.rotor_angle = angle;
-            for &f in &self.moving_faces {
-                self.links.update_face(&self.mesh, f, self.rotor.as_ref(), &self.in_rotor);
-            }
-            self.boundary.update(&self.mesh, self.rotor.as_ref(), &self.in_rotor);
-        }
+        let tc = self.time_coefficients;
+        // step 2: the rotor at the step's pose (turned by `FluidPhase::advance`), the overlaps rebuilt
         if self.frame.is_some() && (self.rotor.is_some() || self.links.len() == self.links.n_internal) {
             self.rebuild_overlaps();
         }
@@ -407,7 +423,7 @@ impl FastFluid {
         let n_internal_faces = self.mesh.n_internal_faces;
         {
             // step 3: starting values
-            let fluid = self.state.fluid.as_ref().expect("fluid state");
+            let fluid = &self.fluid;
             let w = &mut self.w;
             for c in 0..n {
                 for j in 0..3 {
@@ -487,14 +503,14 @@ impl FastFluid {
             last_residual = first_residual;
             let finite = self.w.u.iter().all(|c| c.iter().all(|x| x.is_finite()));
             if !first_residual.is_finite() || !finite {
-                return Err(SolverError::Diverged { step: self.state.step + 1, time: self.state.time + dt, what: "non-finite velocity or pressure".into() });
+                return Err(SolverError::Diverged { step: self.step_number, time: self.step_time_end, what: "non-finite velocity or pressure".into() });
             }
             if first_residual < self.numerics.p_initial_residual {
                 break;
             }
         }
-        self.finish_step(tc, outer_iterations, last_residual, report);
-        Ok(())
+        let courant_max = self.finish_step(tc, outer_iterations, last_residual, report);
+        Ok(FluidStepOutcome { courant_max })
     }
 
     /// Boundary velocity of every boundary face from the latest cell velocity.
@@ -519,7 +535,7 @@ impl FastFluid {
         self.momentum_assemblies += 1;
         let [c0, c1, c2] = tc;
         let n = self.mesh.n_cells();
-        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let fluid = &self.fluid;
         let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
         let links = &self.links;
         let numerics = &self.numerics;
@@ -685,7 +701,7 @@ impl FastFluid {
             w.p_start.copy_from_slice(&w.p);
             w.p_work.copy_from_slice(&w.p);
         }
-        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let fluid = &self.fluid;
         let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
         let mut initial_residual = 0.0;
         let mut p_b = std::mem::take(&mut self.w.p_b);
@@ -830,7 +846,7 @@ impl FastFluid {
     }
 
     /// Diagnostics and step 5 (shift the time levels).
-    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64, report: &mut StepReport) {
+    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64, report: &mut StepReport) -> f64 {
         let [c0, c1, c2] = tc;
         let dt = self.dt;
         let n = self.mesh.n_cells();
@@ -839,7 +855,7 @@ impl FastFluid {
         let adj = &self.adj;
         let vol = &self.mesh.cell_volumes;
         let w = &mut self.w;
-        let fluid = self.state.fluid.as_mut().expect("fluid state");
+        let fluid = &mut self.fluid;
         let (local, global, courant, kinetic);
         {
             let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
@@ -932,13 +948,9 @@ impl FastFluid {
         fluid.alpha_old.copy_from_slice(&fluid.alpha);
         fluid.cumulative_continuity_error += global;
         let cumulative = fluid.cumulative_continuity_error;
-        self.state.time += dt;
-        self.state.step += 1;
-        self.state.dt = dt;
-        // cleared and refilled: a report reused across steps keeps its storage
-        report.values.clear();
+        self.dt_old = dt;
+        // appended: a report reused across steps keeps its storage
         report.values.extend_from_slice(&[
-            ("dt", dt),
             ("courant_max", courant),
             ("continuity_local", local),
             ("continuity_global", global),
@@ -947,33 +959,65 @@ impl FastFluid {
             ("outer_iterations", outer_iterations as f64),
             ("p_initial_residual", last_residual),
             ("interface_imbalance", imbalance),
-            ("rotor_angle", self.state.rotor_angle),
         ]);
+        courant
     }
 }
 
-impl Solver for FastFluid {
+impl FluidPhase for FastFluid {
     fn name(&self) -> &'static str {
         "fast"
     }
 
+    fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    fn place_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
+        self.turn_rotor(pose)
+    }
+
     /// Allocation-free once `report` has held one step's values.
-    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
+    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+        if load.is_some() {
+            return Err(unsupported("two-way coupling (a particle load on the fluid) is not implemented yet"));
+        }
+        self.dt = ctx.dt;
+        self.time_coefficients = ctx.time_coefficients;
+        self.step_number = ctx.step;
+        self.step_time_end = ctx.time_end();
+        self.turn_rotor(ctx.rotor.as_ref())?;
+        std::mem::swap(&mut self.fluid, fluid);
         // Called from outside the thread pool, every parallel loop of the step would be handed
         // to a worker and waited for (a cross-thread wake-up per loop, hundreds per step);
         // running the whole step on a worker hands over once. Same arithmetic either way.
-        if rayon::current_thread_index().is_some() {
-            self.advance(report)
-        } else {
-            rayon::scope(|_| self.advance(report))
+        let result = if rayon::current_thread_index().is_some() { self.advance_timed(report) } else { rayon::scope(|_| self.advance_timed(report)) };
+        std::mem::swap(&mut self.fluid, fluid);
+        result
+    }
+
+    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
+        spillage_model::fluid::sampling::sample_containing_cell(&self.mesh, fluid, self.density, self.nu, self.dt_old, particles, out);
+    }
+
+    /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every link.
+    fn courant_rate(&self, fluid: &FluidState) -> f64 {
+        let links = &self.links;
+        let bnd = &self.boundary;
+        let mut sum = vec![0.0; self.mesh.n_cells()];
+        let u = |c: usize| Vec3::from(fluid.velocity[c]);
+        for l in 0..links.len() {
+            let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
+            let wt = links.weight[l];
+            let relative = ((u(p) * wt + u(q) * (1.0 - wt)).dot(&links.area[l]) - links.mesh_flux[l]).abs();
+            sum[p] += relative;
+            sum[q] += relative;
         }
-    }
-
-    fn state(&self) -> &State {
-        &self.state
-    }
-
-    fn mesh(&self) -> Option<&Mesh> {
-        Some(&self.mesh)
+        for b in 0..bnd.len() {
+            let face = bnd.face[b] as usize;
+            let c = self.mesh.face_owner[face];
+            sum[c] += (fluid.flux[face] - bnd.mesh_flux[b]).abs();
+        }
+        sum.iter().zip(&self.mesh.cell_volumes).map(|(s, v)| 0.5 * s / v).fold(0.0, f64::max)
     }
 }

@@ -47,6 +47,9 @@ pub struct TimeControl {
     pub dt: Option<f64>,
     /// Maximum Courant number (spec fluid-dem-model.md §8.9) used to set the step.
     pub max_courant: Option<f64>,
+    /// Largest step with `max_courant` [s] (default unbounded); also the first step when the
+    /// start state does not move.
+    pub max_dt: Option<f64>,
     /// Simulated end time [s].
     pub end_time: Option<f64>,
     /// Number of steps.
@@ -58,9 +61,17 @@ pub struct TimeControl {
 
 impl TimeControl {
     pub fn validate(&self) -> Result<(), FieldError> {
+        if let (Some(dt), Some(_)) = (self.dt, self.max_dt) {
+            return Err(FieldError::new("time.max_dt", format!("(with time.dt = {dt})"), "max_dt only with time.max_courant"));
+        }
         match (self.dt, self.max_courant) {
             (Some(dt), None) => positive("time.dt", dt, "s")?,
-            (None, Some(co)) => positive("time.max_courant", co, "")?,
+            (None, Some(co)) => {
+                positive("time.max_courant", co, "")?;
+                if let Some(max_dt) = self.max_dt {
+                    positive("time.max_dt", max_dt, "s")?;
+                }
+            }
             (Some(dt), Some(_)) => {
                 return Err(FieldError::new("time.max_courant", format!("(with time.dt = {dt})"), "either time.dt or time.max_courant, not both"))
             }

@@ -101,7 +101,7 @@ pub struct ImpactRecord {
 pub struct ParticleCounts {
     /// Created in total (initial + fed).
     pub created: u64,
-    /// Removed because their centre left `particles.domain`.
+    /// Removed because they left the domain (each is logged in [`ParticleState::exits`]).
     pub escaped: u64,
 }
 
@@ -114,6 +114,8 @@ pub struct ParticleState {
     /// Every particle–wall impact so far, in time order.
     pub impacts: Vec<ImpactRecord>,
     pub counts: ParticleCounts,
+    /// Every particle that left, in the order it left (`counts.escaped` of them).
+    pub exits: Vec<super::bookkeeping::ExitRecord>,
     /// Next id to hand out.
     pub next_id: u64,
     /// Per feed: particles owed but not yet placed (fractional), and its random stream.

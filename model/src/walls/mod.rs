@@ -41,15 +41,15 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
         let motion = match &section.motion {
             MotionSection::Static => WallMotion::Static,
             MotionSection::Rotor => {
-                let rotor = case.rotor.as_ref().ok_or_else(|| WallError::Field(FieldError::new(format!("{key}.motion.type"), "\"rotor\"", "a [rotor] section to turn with")))?;
-                WallMotion::Rotate { omega: rotor.angular_velocity(), axis: Vec3::from(rotor.axis).normalize(), origin: Vec3::from(rotor.origin) }
+                case.rotor.as_ref().ok_or_else(|| WallError::Field(FieldError::new(format!("{key}.motion.type"), "\"rotor\"", "a [rotor] section to turn with")))?;
+                WallMotion::Rotor
             }
             MotionSection::Rotate { omega, axis, origin } => WallMotion::Rotate { omega: *omega, axis: Vec3::from(*axis).normalize(), origin: Vec3::from(*origin) },
             MotionSection::Translate { velocity } => WallMotion::Translate { velocity: Vec3::from(*velocity) },
         };
         let TriangleMesh { vertices, triangles } = mesh;
         geometry::WallMesh::new(&vertices, &triangles).map_err(|message| WallError::Geometry { wall: section.name.clone(), message })?;
-        walls.push(Wall { name: section.name.clone(), material, vertices, triangles, motion, angle: 0.0, displacement: Vec3::zeros() });
+        walls.push(Wall { name: section.name.clone(), material, vertices, triangles, motion, pose: Default::default() });
     }
     Ok(WallState { walls })
 }

@@ -9,9 +9,35 @@ pub type Vec3 = Vector3<f64>;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum WallMotion {
     Static,
-    /// Rotation at `omega` about the unit `axis` through `origin` (body-frame point).
+    /// Turns with the `[rotor]`: its pose comes from the rotor pose of the step
+    /// ([`crate::step::RotorPose`], stored once in the state), never integrated on its own.
+    Rotor,
+    /// Its own rotation at `omega` about the unit `axis` through `origin` (body-frame point),
+    /// turned ω t at time t.
     Rotate { omega: f64, axis: Vec3, origin: Vec3 },
+    /// Translation by v t at time t.
     Translate { velocity: Vec3 },
+}
+
+/// Where a wall is at one instant: derived from the time and the rotor pose by [`Wall::place`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallPose {
+    /// Angular velocity [rad/s], unit axis and a point on the axis of the rotation.
+    pub omega: f64,
+    pub axis: Vec3,
+    pub origin: Vec3,
+    /// Angle turned from the body frame [rad].
+    pub angle: f64,
+    /// Translation velocity [m/s] and displacement from the body frame [m].
+    pub velocity: Vec3,
+    pub displacement: Vec3,
+}
+
+impl Default for WallPose {
+    /// The body frame itself, at rest.
+    fn default() -> Self {
+        WallPose { omega: 0.0, axis: Vec3::z(), origin: Vec3::zeros(), angle: 0.0, velocity: Vec3::zeros(), displacement: Vec3::zeros() }
+    }
 }
 
 /// One wall.
@@ -24,34 +50,39 @@ pub struct Wall {
     pub vertices: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
     pub motion: WallMotion,
-    /// Rotation angle [rad] turned so far (rotating walls).
-    pub angle: f64,
-    /// Displacement [m] so far (translating walls).
-    pub displacement: Vec3,
+    /// The pose set by the last [`Wall::place`] (not stored in checkpoints: it is a function of
+    /// the time and the rotor pose, which are).
+    #[serde(skip)]
+    pub pose: WallPose,
 }
 
 impl Wall {
-    fn rotation(&self) -> Rotation3<f64> {
-        match &self.motion {
-            WallMotion::Rotate { axis, .. } => Rotation3::from_axis_angle(&Unit::new_normalize(*axis), self.angle),
-            _ => Rotation3::identity(),
-        }
+    /// Moves the wall to its pose at `time` with the rotor at `rotor` (needed by
+    /// [`WallMotion::Rotor`] walls; without it they stay in the body frame).
+    pub fn place(&mut self, time: f64, rotor: Option<&crate::step::RotorPose>) {
+        self.pose = match (&self.motion, rotor) {
+            (WallMotion::Rotor, Some(r)) => WallPose { omega: r.omega, axis: r.axis, origin: r.origin, angle: r.angle, ..WallPose::default() },
+            (WallMotion::Rotate { omega, axis, origin }, _) => WallPose { omega: *omega, axis: *axis, origin: *origin, angle: omega * time, ..WallPose::default() },
+            (WallMotion::Translate { velocity }, _) => WallPose { velocity: *velocity, displacement: velocity * time, ..WallPose::default() },
+            (WallMotion::Static, _) | (WallMotion::Rotor, None) => WallPose::default(),
+        };
     }
-    fn pivot(&self) -> Vec3 {
-        match &self.motion {
-            WallMotion::Rotate { origin, .. } => *origin,
-            _ => Vec3::zeros(),
+    fn rotation(&self) -> Rotation3<f64> {
+        if self.pose.angle == 0.0 {
+            Rotation3::identity()
+        } else {
+            Rotation3::from_axis_angle(&Unit::new_normalize(self.pose.axis), self.pose.angle)
         }
     }
     /// Body-frame point → world point at the current pose.
     pub fn to_world(&self, body: Vec3) -> Vec3 {
-        let pivot = self.pivot();
-        pivot + self.rotation() * (body - pivot) + self.displacement
+        let pivot = self.pose.origin;
+        pivot + self.rotation() * (body - pivot) + self.pose.displacement
     }
     /// World point → body-frame point at the current pose.
     pub fn to_body(&self, world: Vec3) -> Vec3 {
-        let pivot = self.pivot();
-        pivot + self.rotation().inverse() * (world - self.displacement - pivot)
+        let pivot = self.pose.origin;
+        pivot + self.rotation().inverse() * (world - self.pose.displacement - pivot)
     }
     /// Body-frame direction → world direction.
     pub fn direction_to_world(&self, body: Vec3) -> Vec3 {
@@ -59,26 +90,21 @@ impl Wall {
     }
     /// Velocity of the wall material at world point `p` [m/s] (§7.4: ω × (x − x_axis) + v).
     pub fn surface_velocity(&self, p: Vec3) -> Vec3 {
-        match &self.motion {
-            WallMotion::Static => Vec3::zeros(),
-            WallMotion::Rotate { omega, axis, origin } => {
-                let w = *omega * axis.normalize();
-                w.cross(&(p - (origin + self.displacement)))
-            }
-            WallMotion::Translate { velocity } => *velocity,
-        }
-    }
-    /// Advances the pose by `dt`.
-    pub fn advance(&mut self, dt: f64) {
-        match &self.motion {
-            WallMotion::Static => {}
-            WallMotion::Rotate { omega, .. } => self.angle += omega * dt,
-            WallMotion::Translate { velocity } => self.displacement += velocity * dt,
-        }
+        let pose = &self.pose;
+        crate::step::rigid_rotation_velocity(pose.omega, &pose.axis, &(pose.origin + pose.displacement), &p) + pose.velocity
     }
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WallState {
     pub walls: Vec<Wall>,
+}
+
+impl WallState {
+    /// Moves every wall to its pose at `time` with the rotor at `rotor`.
+    pub fn place(&mut self, time: f64, rotor: Option<&crate::step::RotorPose>) {
+        for wall in &mut self.walls {
+            wall.place(time, rotor);
+        }
+    }
 }

@@ -1,11 +1,14 @@
 //! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
 
 use spillage_model::case::Case;
-use spillage_model::fluid::settings::{NumericsSection, TimeScheme};
+use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
-use spillage_model::solver::{Solver, SolverError, StepReport};
+use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::particles::Particle;
+use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
+use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
 
 use super::boundary::Conditions;
 use super::diagnostics;
@@ -15,28 +18,29 @@ use super::interface::interface_links;
 use super::momentum::{self, StepInputs};
 use super::pressure::{self, CorrectorFields};
 
-/// The reference fluid solver (single-phase until the coupling supplies α_c and particle forces).
+/// The reference fluid solver, a fluid phase of the step driver
+/// ([`spillage_model::step::Coupled`]); single-phase until the coupling supplies α_c and
+/// particle forces.
 pub struct ReferenceFluid {
     mesh: Mesh,
-    state: State,
     conditions: Conditions,
     numerics: NumericsSection,
     nu: f64,
+    density: f64,
     body_force: Vec3,
+    /// The rotor zone and its motion at the pose of the current step.
     rotor: Option<RotorMotion>,
     /// Axis and origin of the sliding interfaces (the rotor zone's rotation).
     interface_axis: Option<(Vec3, Vec3)>,
-    dt: f64,
+    /// Δt of the last step (sampling's local acceleration).
+    dt_old: f64,
 }
 
 impl ReferenceFluid {
     /// Sets up the solver for `case` on `mesh`. If `state.fluid` is `None` the fluid starts
     /// from the case's initial velocity, zero pressure and α_c = 1.
-    pub fn new(case: &Case, mesh: Mesh, mut state: State) -> Result<Self, SolverError> {
+    pub fn new(case: &Case, mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
         let fluid = case.fluid.as_ref().ok_or_else(|| SolverError::Unsupported("the case has no [fluid] section".into()))?;
-        let dt = case.time.dt.ok_or_else(|| {
-            SolverError::Unsupported("the reference fluid solver needs a fixed time step `[time] dt` (max_courant is not supported yet)".into())
-        })?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let mut body_force = Vec3::from(numerics.body_force);
@@ -88,12 +92,19 @@ impl ReferenceFluid {
         if let Some(f) = state.fluid.as_mut() {
             f.fill_missing_old_flux(&mesh);
         }
-        let mut solver = ReferenceFluid { mesh, state, conditions, numerics, nu: fluid.kinematic_viscosity, body_force, rotor, interface_axis, dt };
-        solver.check_sizes()?;
-        if let Some(r) = &solver.rotor {
-            let angle = solver.state.rotor_angle;
-            set_zone_angle(&mut solver.mesh, r.zone, angle)?;
-        }
+        let mut solver = ReferenceFluid {
+            mesh,
+            conditions,
+            numerics,
+            nu: fluid.kinematic_viscosity,
+            density: fluid.density,
+            body_force,
+            rotor,
+            interface_axis,
+            dt_old: state.dt,
+        };
+        solver.check_sizes(state.fluid.as_ref().expect("set above"))?;
+        solver.place_rotor(RotorPose::from_case(case, state.rotor_angle).as_ref())?;
         Ok(solver)
     }
 
@@ -103,17 +114,15 @@ impl ReferenceFluid {
 
     /// Cell gradient of the kinematic pressure, ∇P (Gauss, linear face values, the stored
     /// boundary pressures): the gradient the momentum equation uses.
-    pub fn pressure_gradient(&self) -> Vec<Vec3> {
+    pub fn pressure_gradient(&self, fluid: &FluidState) -> Vec<Vec3> {
         let geo = self.geometry();
-        let fluid = self.state.fluid.as_ref().expect("fluid state");
         let p_boundary: Vec<f64> = geo.boundary.iter().map(|face| fluid.boundary_pressure[face.index]).collect();
         super::gradient::scalar_gradient(&geo, &self.mesh.cell_volumes, &fluid.pressure, &p_boundary)
     }
 
     /// Per-cell continuity error e_c = ∂α/∂t V + Σ α_f φ_f of the stored state, without the
     /// ∂α/∂t part (single phase) [m³/s]; on overlap links the stored face sums are used.
-    pub fn flux_divergence(&self) -> Vec<f64> {
-        let fluid = self.state.fluid.as_ref().expect("fluid state");
+    pub fn flux_divergence(&self, fluid: &FluidState) -> Vec<f64> {
         let mut div = vec![0.0; self.mesh.cell_volumes.len()];
         for f in 0..self.mesh.face_areas.len() {
             let owner = self.mesh.face_owner[f];
@@ -125,8 +134,7 @@ impl ReferenceFluid {
         div
     }
 
-    fn check_sizes(&self) -> Result<(), SolverError> {
-        let f = self.state.fluid.as_ref().expect("fluid state");
+    fn check_sizes(&self, f: &FluidState) -> Result<(), SolverError> {
         let n = self.mesh.cell_volumes.len();
         let nf = self.mesh.face_areas.len();
         let ok = f.velocity.len() == n
@@ -154,25 +162,13 @@ impl ReferenceFluid {
         Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), links)
     }
 
-    fn time_coefficients(&self, dt: f64) -> [f64; 3] {
-        if self.state.step == 0 || self.numerics.time_scheme == TimeScheme::Euler || self.state.dt <= 0.0 {
-            [1.0, -1.0, 0.0]
-        } else {
-            let r = dt / self.state.dt;
-            [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
-        }
-    }
-
-    fn advance(&mut self) -> Result<StepReport, SolverError> {
-        let dt = self.dt;
-        let time_coefficients = self.time_coefficients(dt);
-        if let Some(r) = &self.rotor {
-            let angle = self.state.rotor_angle + r.omega * dt;
-            set_zone_angle(&mut self.mesh, r.zone, angle)?;
-            self.state.rotor_angle = angle;
-        }
+    /// One PIMPLE step from tⁿ to tⁿ⁺¹ (module doc, steps 2–5).
+    fn advance_fluid(&mut self, ctx: &StepContext, fluid_state: &mut FluidState, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+        let dt = ctx.dt;
+        let time_coefficients = ctx.time_coefficients;
+        self.place_rotor(ctx.rotor.as_ref())?;
         let geo = self.geometry();
-        let fluid = self.state.fluid.as_ref().expect("fluid state");
+        let fluid = &*fluid_state;
         let n = geo.n_cells();
         let volumes = self.mesh.cell_volumes.clone();
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
@@ -259,7 +255,7 @@ impl ReferenceFluid {
             }
             last_residual = first_residual;
             if !first_residual.is_finite() || u.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
-                return Err(SolverError::Diverged { step: self.state.step + 1, time: self.state.time + dt, what: "non-finite velocity or pressure".into() });
+                return Err(SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what: "non-finite velocity or pressure".into() });
             }
             if first_residual < self.numerics.p_initial_residual {
                 break;
@@ -277,7 +273,7 @@ impl ReferenceFluid {
 
         // step 5: shift the time levels
         let n_faces = self.mesh.face_areas.len();
-        let fluid = self.state.fluid.as_mut().expect("fluid state");
+        let fluid = fluid_state;
         fluid.velocity_old = fluid.velocity.clone();
         fluid.velocity = u.iter().map(|v| [v.x, v.y, v.z]).collect();
         fluid.pressure = p;
@@ -300,24 +296,19 @@ impl ReferenceFluid {
         fluid.alpha_old = fluid.alpha.clone();
         fluid.cumulative_continuity_error += global;
         let cumulative = fluid.cumulative_continuity_error;
-        self.state.time += dt;
-        self.state.step += 1;
-        self.state.dt = dt;
+        self.dt_old = dt;
 
-        Ok(StepReport {
-            values: vec![
-                ("dt", dt),
-                ("courant_max", courant),
-                ("continuity_local", local),
-                ("continuity_global", global),
-                ("continuity_cumulative", cumulative),
-                ("kinetic_energy", kinetic),
-                ("outer_iterations", outer_iterations as f64),
-                ("p_initial_residual", last_residual),
-                ("interface_imbalance", imbalance),
-                ("rotor_angle", self.state.rotor_angle),
-            ],
-        })
+        report.values.extend([
+            ("courant_max", courant),
+            ("continuity_local", local),
+            ("continuity_global", global),
+            ("continuity_cumulative", cumulative),
+            ("kinetic_energy", kinetic),
+            ("outer_iterations", outer_iterations as f64),
+            ("p_initial_residual", last_residual),
+            ("interface_imbalance", imbalance),
+        ]);
+        Ok(FluidStepOutcome { courant_max: courant })
     }
 }
 
@@ -362,21 +353,46 @@ fn set_zone_angle(mesh: &mut Mesh, zone: usize, angle: f64) -> Result<(), Solver
     mesh.set_zone_angle(zone, angle).map_err(|e| SolverError::Unsupported(format!("cannot rotate the rotor zone: {e}")))
 }
 
-impl Solver for ReferenceFluid {
+impl FluidPhase for ReferenceFluid {
     fn name(&self) -> &'static str {
         "reference"
     }
 
-    fn step_into(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
-        *report = self.advance()?;
+    fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// Turns the rotor zone to the pose's angle (from its reference geometry, so no drift
+    /// accumulates) and takes the pose's motion for the mesh fluxes and wall velocities.
+    fn place_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
+        if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
+            r.axis = pose.axis;
+            r.origin = pose.origin;
+            r.omega = pose.omega;
+            let zone = r.zone;
+            set_zone_angle(&mut self.mesh, zone, pose.angle)?;
+        }
         Ok(())
     }
 
-    fn state(&self) -> &State {
-        &self.state
+    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+        if load.is_some() {
+            return Err(SolverError::Unsupported("two-way coupling (a particle load on the fluid) is not implemented yet".into()));
+        }
+        self.advance_fluid(ctx, fluid, report)
     }
 
-    fn mesh(&self) -> Option<&Mesh> {
-        Some(&self.mesh)
+    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
+        spillage_model::fluid::sampling::sample_containing_cell(&self.mesh, fluid, self.density, self.nu, self.dt_old, particles, out);
+    }
+
+    /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every
+    /// link (the stored fluxes of overlap links are summed per face).
+    fn courant_rate(&self, fluid: &FluidState) -> f64 {
+        let geo = self.geometry();
+        let u: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
+        let link_flux: Vec<f64> = geo.links.iter().map(|l| l.interpolate_vec(u[l.owner], u[l.neighbour]).dot(&l.area)).collect();
+        let boundary_flux: Vec<f64> = geo.boundary.iter().map(|b| fluid.flux[b.face]).collect();
+        diagnostics::max_courant(&geo, &self.mesh.cell_volumes, 1.0, &link_flux, &boundary_flux)
     }
 }

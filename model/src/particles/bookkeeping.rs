@@ -1,0 +1,133 @@
+//! Particle bookkeeping shared by every particle phase: feeding new particles at an inlet region
+//! and classifying the ones that leave (DESIGN.md "Particles", "Spillage bookkeeping").
+//!
+//! Every particle ever created is either in [`ParticleState::particles`] or in
+//! [`ParticleState::exits`], so `created = particles.len() + exits.len()` at every step.
+
+use serde::{Deserialize, Serialize};
+
+use super::initial::{new_particle, place_without_overlap};
+use super::settings::{Diameter, ParticlesSection};
+use super::state::{ParticleState, Partner, Vec3};
+
+/// Where a particle left the domain.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ExitRoute {
+    /// Its centre left the box `[particles] domain`.
+    Domain,
+    /// Its centre left the fluid mesh through the named boundary patch (the patch of the
+    /// boundary face nearest to its last position).
+    Patch(String),
+}
+
+/// One particle that left, with when and where.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExitRecord {
+    pub particle: u64,
+    /// End of the step in which it left [s].
+    pub time: f64,
+    pub position: [f64; 3],
+    pub velocity: [f64; 3],
+    pub diameter: f64,
+    pub route: ExitRoute,
+}
+
+/// Creates the particles owed by each feed for a step of `dt` from `time`: rate × dt accumulates
+/// as a debt and whole particles are placed, never overlapping others, at random in the feed's
+/// region; a particle that cannot be placed now stays owed. Returns how many were created.
+pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt: f64) -> u64 {
+    let mut created = 0;
+    for (f, feed) in section.feed.iter().enumerate() {
+        let active = time >= feed.start && feed.end.is_none_or(|end| time < end);
+        if !active {
+            continue;
+        }
+        state.feed_debt[f] += feed.rate * dt;
+        let material = section.material_index(&feed.material).expect("validated feed material");
+        while state.feed_debt[f] >= 1.0 {
+            let d = match feed.diameter {
+                Diameter::Fixed(d) => d,
+                Diameter::Uniform { min, max } => state.feed_random[f].uniform(min, max),
+            };
+            let mut random = state.feed_random[f].clone();
+            let Some(position) = place_without_overlap(&feed.region, d, &state.particles, &mut random) else { break };
+            state.feed_random[f] = random;
+            let particle = new_particle(section, state, material, d, position, Vec3::from(feed.velocity));
+            state.particles.push(particle);
+            state.counts.created += 1;
+            state.feed_debt[f] -= 1.0;
+            created += 1;
+        }
+    }
+    created
+}
+
+/// Removes the particles for which `route` names an exit, logs them with `time`, and drops
+/// their contact history. Particle order (by id) is kept. Returns how many left.
+pub fn remove_exited(state: &mut ParticleState, time: f64, route: impl Fn(&super::Particle) -> Option<ExitRoute>) -> u64 {
+    let mut gone = Vec::new();
+    let mut exits = Vec::new();
+    state.particles.retain(|p| match route(p) {
+        Some(route) => {
+            gone.push(p.id);
+            exits.push(ExitRecord { particle: p.id, time, position: p.position.into(), velocity: p.velocity.into(), diameter: p.diameter, route });
+            false
+        }
+        None => true,
+    });
+    if !gone.is_empty() {
+        state.contacts.retain(|r| !gone.contains(&r.particle) && !matches!(r.partner, Partner::Particle(j) if gone.contains(&j)));
+    }
+    let n = gone.len() as u64;
+    state.counts.escaped += n;
+    state.exits.extend(exits);
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::particles::{ContactRecord, Particle};
+
+    fn particle(id: u64, x: f64) -> Particle {
+        Particle {
+            id,
+            material: 0,
+            diameter: 0.01,
+            density: 2650.0,
+            position: Vec3::new(x, 0.0, 0.0),
+            velocity: Vec3::new(1.0, 0.0, 0.0),
+            spin: Vec3::zeros(),
+            contact_force: Vec3::zeros(),
+            contact_torque: Vec3::zeros(),
+            contacts: 0,
+        }
+    }
+
+    #[test]
+    fn exits_are_logged_counted_and_lose_their_contacts() {
+        let record = |a: u64, b: u64| ContactRecord {
+            particle: a,
+            partner: Partner::Particle(b),
+            tangential_overlap: Vec3::zeros(),
+            damping_ratio: 0.1,
+            approach_speed: 1.0,
+            normal: Vec3::x(),
+            start_time: 0.0,
+        };
+        let mut state = ParticleState {
+            particles: vec![particle(0, 0.0), particle(1, 2.0), particle(2, 0.5)],
+            contacts: vec![record(0, 1), record(0, 2)],
+            ..Default::default()
+        };
+        state.counts.created = 3;
+        let n = remove_exited(&mut state, 1.5, |p| (p.position.x > 1.0).then_some(ExitRoute::Domain));
+        assert_eq!(n, 1);
+        assert_eq!(state.particles.iter().map(|p| p.id).collect::<Vec<_>>(), vec![0, 2]);
+        assert_eq!(state.contacts.len(), 1);
+        assert_eq!(state.exits.len(), 1);
+        assert_eq!(state.exits[0].particle, 1);
+        assert_eq!(state.exits[0].time, 1.5);
+        assert_eq!(state.counts.created, state.particles.len() as u64 + state.exits.len() as u64);
+    }
+}

@@ -1,0 +1,141 @@
+//! The two phases a step advances, behind small traits so that any fluid phase pairs with any
+//! particle phase (DESIGN.md "One step, one pipeline").
+
+use super::context::StepContext;
+use crate::closure::drag::FluidAtParticle;
+use crate::fluid::state::FluidState;
+use crate::mesh::Mesh;
+use crate::particles::{Particle, ParticleState};
+use crate::solver::{SolverError, StepReport};
+use crate::walls::state::WallState;
+
+/// What a fluid step tells the driver besides its report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FluidStepOutcome {
+    /// Largest cell Courant number of the step, ½Δt Σ_f |φ_f − φ_mesh,f| / V (spec §8.9, T4.44):
+    /// the adaptive time step is set from it.
+    pub courant_max: f64,
+}
+
+/// The particles' load on the fluid, per particle in the order of
+/// [`ParticleState::particles`]: what the mapping spreads to the cells (spec fluid-dem-model.md
+/// §6, §8.4). One-way coupling passes none.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParticleLoad {
+    /// Particle volumes [m³].
+    pub volume: Vec<f64>,
+    /// Implicit drag coefficient K_p of the semi-implicit split [kg/s].
+    pub implicit_drag: Vec<f64>,
+    /// Explicit part of the fluid force on the particle [N].
+    pub explicit_force: Vec<[f64; 3]>,
+}
+
+/// A finite-volume fluid solver, advanced one step at a time by the driver.
+///
+/// The phase owns its mesh and its work arrays, never the state or the clock: it is handed the
+/// fluid state, the step's [`StepContext`] (Δt, time coefficients, rotor pose at tⁿ⁺¹) and the
+/// particle load.
+pub trait FluidPhase {
+    /// `"reference"` or `"fast"`.
+    fn name(&self) -> &'static str;
+    /// The mesh, with the rotor zone at the pose of the last step (or of the start).
+    fn mesh(&self) -> &Mesh;
+    /// Turns the rotor zone to `pose` without solving (start-up and restarts).
+    fn place_rotor(&mut self, pose: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError>;
+    /// Advances `fluid` from tⁿ to tⁿ⁺¹ and appends its diagnostics to `report`.
+    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError>;
+    /// The fluid each particle sees, in particle order, appended to `out` (`None` for a
+    /// particle outside the mesh).
+    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>);
+    /// Largest Courant number per second of step of the stored state, for the first adaptive
+    /// step (flux relative to the mesh at the current pose).
+    fn courant_rate(&self, fluid: &FluidState) -> f64;
+}
+
+/// A DEM solver, advanced one outer step at a time by the driver.
+pub trait ParticlePhase {
+    /// `"reference"` or `"fast"`.
+    fn name(&self) -> &'static str;
+    /// Advances particles and walls from tⁿ to tⁿ⁺¹ in DEM sub-steps, the fluid held as
+    /// sampled (`fluid[i]` for `particles.particles[i]`; empty for dry particles), and appends its
+    /// diagnostics to `report`. It neither adds nor removes particles (feeding and exits are the
+    /// driver's bookkeeping) and never reorders them.
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        particles: &mut ParticleState,
+        walls: &mut WallState,
+        fluid: &[Option<FluidAtParticle>],
+        report: &mut StepReport,
+    ) -> Result<Option<ParticleLoad>, SolverError>;
+}
+
+impl<T: FluidPhase + ?Sized> FluidPhase for Box<T> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn mesh(&self) -> &Mesh {
+        (**self).mesh()
+    }
+    fn place_rotor(&mut self, pose: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError> {
+        (**self).place_rotor(pose)
+    }
+    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+        (**self).advance(ctx, fluid, load, report)
+    }
+    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
+        (**self).sample(fluid, particles, out)
+    }
+    fn courant_rate(&self, fluid: &FluidState) -> f64 {
+        (**self).courant_rate(fluid)
+    }
+}
+
+impl<T: ParticlePhase + ?Sized> ParticlePhase for Box<T> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        particles: &mut ParticleState,
+        walls: &mut WallState,
+        fluid: &[Option<FluidAtParticle>],
+        report: &mut StepReport,
+    ) -> Result<Option<ParticleLoad>, SolverError> {
+        (**self).advance(ctx, particles, walls, fluid, report)
+    }
+}
+
+/// The absent phase of a fluid-only or particle-only run (no value of it exists).
+pub enum Absent {}
+
+impl FluidPhase for Absent {
+    fn name(&self) -> &'static str {
+        match *self {}
+    }
+    fn mesh(&self) -> &Mesh {
+        match *self {}
+    }
+    fn place_rotor(&mut self, _: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError> {
+        match *self {}
+    }
+    fn advance(&mut self, _: &StepContext, _: &mut FluidState, _: Option<&ParticleLoad>, _: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+        match *self {}
+    }
+    fn sample(&self, _: &FluidState, _: &[Particle], _: &mut Vec<Option<FluidAtParticle>>) {
+        match *self {}
+    }
+    fn courant_rate(&self, _: &FluidState) -> f64 {
+        match *self {}
+    }
+}
+
+impl ParticlePhase for Absent {
+    fn name(&self) -> &'static str {
+        match *self {}
+    }
+    fn advance(&mut self, _: &StepContext, _: &mut ParticleState, _: &mut WallState, _: &[Option<FluidAtParticle>], _: &mut StepReport) -> Result<Option<ParticleLoad>, SolverError> {
+        match *self {}
+    }
+}

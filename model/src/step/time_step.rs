@@ -1,0 +1,107 @@
+//! The step size: fixed (`[time] dt`) or adapted to a maximum Courant number
+//! (`[time] max_courant`, spec fluid-dem-model.md §8.9; the thesis runs Co_max = 0.5 with
+//! particles).
+//!
+//! The adaptive rule is OpenFOAM's `setDeltaT` [R: the spec gives only Co_max]: from the
+//! Courant number Coⁿ of the last step, f = Co_max/Coⁿ, Δt ← min(min(f, 1 + 0.1 f), 1.2) Δtⁿ,
+//! so the step shrinks at once when the flow speeds up and grows by at most 20 % per step
+//! (variable-step BDF2 stays second order and stable for such ratios). It is capped by
+//! `max_dt` and never steps past `end_time`. The first step takes
+//! min(Co_max / (Co per second of the start state), `max_dt`).
+
+use crate::case::Case;
+use crate::solver::SolverError;
+use crate::state::State;
+
+/// How the driver picks Δt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TimeStepControl {
+    Fixed { dt: f64, end_time: Option<f64> },
+    Courant { max_courant: f64, max_dt: f64, end_time: Option<f64> },
+}
+
+/// Largest growth of Δt from one step to the next (OpenFOAM's `maxDeltaT` factor 1.2).
+const MAX_GROWTH: f64 = 1.2;
+
+impl TimeStepControl {
+    pub fn from_case(case: &Case, has_fluid: bool) -> Result<TimeStepControl, SolverError> {
+        let t = &case.time;
+        match (t.dt, t.max_courant) {
+            (Some(dt), _) => Ok(TimeStepControl::Fixed { dt, end_time: t.end_time }),
+            (None, Some(max_courant)) if has_fluid => Ok(TimeStepControl::Courant { max_courant, max_dt: t.max_dt.unwrap_or(f64::INFINITY), end_time: t.end_time }),
+            (None, Some(_)) => Err(SolverError::Unsupported("`[time] max_courant` needs a fluid; a particle-only run needs a fixed `[time] dt` for its outer step".into())),
+            (None, None) => Err(SolverError::Unsupported("`[time]` needs `dt` or `max_courant`".into())),
+        }
+    }
+
+    /// Δt of the step after `state`; `courant_rate` is the Courant number per second of the
+    /// state's flow (asked for only on the first adaptive step).
+    pub fn next_dt(&self, state: &State, courant_rate: impl FnOnce() -> f64) -> Result<f64, SolverError> {
+        let (dt, end_time) = match *self {
+            TimeStepControl::Fixed { dt, end_time } => (dt, end_time),
+            TimeStepControl::Courant { max_courant, max_dt, end_time } => {
+                let dt = if state.step == 0 || state.dt <= 0.0 {
+                    let rate = courant_rate();
+                    let dt = if rate > 0.0 { (max_courant / rate).min(max_dt) } else { max_dt };
+                    if !dt.is_finite() {
+                        return Err(SolverError::Unsupported(
+                            "`[time] max_courant`: the start state does not move (Courant number 0), so the first step cannot be chosen from it; give `[time] max_dt`".into(),
+                        ));
+                    }
+                    dt
+                } else {
+                    adapted_dt(state.dt, state.courant, max_courant).min(max_dt)
+                };
+                (dt, end_time)
+            }
+        };
+        // land on end_time exactly rather than overshoot it (a step within half a step of the end
+        // time is the last one, as the run loop counts it)
+        Ok(match end_time {
+            Some(end) if matches!(self, TimeStepControl::Courant { .. }) && end - state.time < 1.5 * dt && end > state.time => {
+                let remaining = end - state.time;
+                if remaining <= dt { remaining } else { 0.5 * remaining }
+            }
+            _ => dt,
+        })
+    }
+}
+
+/// OpenFOAM's `setDeltaT`: Δt after a step of `dt_old` that reached Courant number `courant`.
+pub fn adapted_dt(dt_old: f64, courant: f64, max_courant: f64) -> f64 {
+    let factor = max_courant / (courant + f64::MIN_POSITIVE);
+    dt_old * factor.min(1.0 + 0.1 * factor).min(MAX_GROWTH)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_shrinks_at_once_and_grows_by_at_most_20_percent() {
+        // twice the allowed Courant number: halve at once (f = 0.5 < 1 + 0.1 f)
+        assert_eq!(adapted_dt(1.0, 1.0, 0.5), 0.5);
+        // a still flow: grow by 1.2 only
+        assert_eq!(adapted_dt(1.0, 1e-9, 0.5), MAX_GROWTH);
+        // at the target: f = 1, min(1, 1.1, 1.2) = 1
+        assert_eq!(adapted_dt(0.3, 0.5, 0.5), 0.3);
+    }
+
+    #[test]
+    fn the_last_step_lands_on_the_end_time() {
+        let control = TimeStepControl::Courant { max_courant: 0.5, max_dt: 0.1, end_time: Some(1.0) };
+        let state = State { time: 0.95, step: 3, dt: 0.1, courant: 0.5, ..State::default() };
+        assert_eq!(control.next_dt(&state, || 0.0).unwrap(), 1.0 - 0.95);
+        // 1.3 steps left: two steps of 0.65 rather than one full and a sliver
+        let state = State { time: 0.87, step: 3, dt: 0.1, courant: 0.5, ..State::default() };
+        let dt = control.next_dt(&state, || 0.0).unwrap();
+        assert!((dt - 0.5 * (1.0 - 0.87)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_still_start_without_max_dt_is_an_error_that_says_what_to_give() {
+        let control = TimeStepControl::Courant { max_courant: 0.5, max_dt: f64::INFINITY, end_time: Some(1.0) };
+        let e = control.next_dt(&State::default(), || 0.0).unwrap_err().to_string();
+        assert!(e.contains("max_dt"), "{e}");
+    }
+}
