@@ -168,7 +168,7 @@ fn variable_step_bdf2_is_second_order_in_time() {
     let reference = run_with(0.1 / 16.0, false);
     let errors: Vec<f64> = [0.1, 0.05, 0.025].iter().map(|&h| (run_with(h, true) - reference).abs()).collect();
     let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
-    eprintln!("variable-step BDF2 time errors {errors:.3e?}, orders {orders:.3?}");
+    eprintln!("variable-step BDF2 time errors {errors:?}, orders {orders:.3?}");
     for order in &orders {
         assert!(*order >= 1.8, "time order {order:.3} < 1.8 (errors {errors:?})");
     }
