@@ -196,7 +196,7 @@ impl ParticlePhase for ReferenceDem {
         report.values.extend([
             ("substeps", n as f64),
             ("contacts", self.samples.len() as f64),
-            ("kinetic_energy", particles.particles.iter().map(|p| p.kinetic_energy()).sum()),
+            ("particle_kinetic_energy", particles.particles.iter().map(|p| p.kinetic_energy()).sum()),
             ("max_overlap_ratio", max_overlap_ratio),
         ]);
         Ok(None)
