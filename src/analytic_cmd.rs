@@ -1,6 +1,9 @@
 //! `spillage analytic`: evaluate the closed-form reference solutions of `spillage-analytic` from
 //! the command line, as tables, JSON or PNG curves.
 //!
+//! Longer than ~600 lines because it is one table: every analytic solution's parameters, defaults,
+//! ranges and output columns in one place, so `--list` and the parser cannot drift apart.
+//!
 //! Usage: `spillage analytic <name> [--param value …] [--json] [--plot FILE.png]` and
 //! `spillage analytic --list`. Ranges are `a:b:step`, `a:b` (a natural spacing: linear, or
 //! logarithmic for Stokes numbers), or comma lists `a,b,c`. Bad parameters print an error naming
