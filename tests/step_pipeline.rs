@@ -173,3 +173,60 @@ fn variable_step_bdf2_is_second_order_in_time() {
         assert!(*order >= 1.8, "time order {order:.3} < 1.8 (errors {errors:?})");
     }
 }
+
+/// A run restarted from a checkpoint continues bit for bit, with both phases (one-way cavity,
+/// fast fluid + reference DEM) and with the adaptive step (Taylor–Green, `max_courant`): the
+/// state carries everything the next step depends on (rotor angle, last Δt and Courant number,
+/// contact history, feed debts).
+#[test]
+fn restarts_continue_bit_for_bit() {
+    let dir = std::env::temp_dir().join(format!("spillage-step-pipeline-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let coupled = load("cases/coupling/one_way_cavity.toml");
+    let adaptive = taylor_green("max_courant = 0.2", "");
+    for (label, case) in [("coupled", &coupled), ("adaptive", &adaptive)] {
+        let build = |state: Option<State>| -> Box<dyn Solver> {
+            let mut state = state.unwrap_or_default();
+            let fluid = FastFluid::new(case, spillage::verify::fluid::build_mesh(case).unwrap(), &mut state).unwrap();
+            if case.particles.is_some() {
+                let dem = ReferenceDem::new(case, &mut state).unwrap();
+                Box::new(Coupled::new(case, state, Some(fluid), Some(dem)).unwrap())
+            } else {
+                Box::new(Coupled::fluid_only(case, state, fluid).unwrap())
+            }
+        };
+        let mut straight = build(None);
+        for _ in 0..8 {
+            straight.step().unwrap();
+        }
+        let path = dir.join(format!("{label}.ckpt"));
+        spillage_model::checkpoint::write(&path, &case.case.name, straight.state()).unwrap();
+        let mut restarted = build(Some(spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap()));
+        for step in 9..=16 {
+            let a = straight.step().unwrap();
+            let b = restarted.step().unwrap();
+            let bits = |r: &StepReport| r.values.iter().map(|v| v.1.to_bits()).collect::<Vec<u64>>();
+            assert_eq!(bits(&a), bits(&b), "{label}: step {step} reports differ after the restart");
+        }
+        assert!(straight.state() == restarted.state(), "{label}: states differ after the restart");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A checkpoint of a particle-only run is refused by a fluid run and the other way round, with
+/// a message that says why (the driver checks the state against its phases).
+#[test]
+fn a_state_without_the_phase_it_needs_is_refused() {
+    let case = load("cases/coupling/one_way_cavity.toml");
+    let mut state = State::default();
+    let dem = ReferenceDem::new(&case, &mut state).unwrap();
+    let Err(e) = Coupled::<FastFluid, ReferenceDem>::new(&case, state.clone(), None, Some(dem)) else { panic!("a particle-only run of a case with a fluid was accepted") };
+    assert!(e.to_string().contains("[fluid]"), "{e}");
+    let mut state = state;
+    let fluid = ReferenceFluid::new(&case, spillage::verify::fluid::build_mesh(&case).unwrap(), &mut state).unwrap();
+    let mut fluid_case = case.clone();
+    fluid_case.particles = None;
+    fluid_case.walls.clear();
+    let Err(e) = Coupled::fluid_only(&fluid_case, state, fluid) else { panic!("a state with particles was accepted by a fluid-only run") };
+    assert!(e.to_string().contains("has particles"), "{e}");
+}

@@ -60,6 +60,16 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         if fluid.is_none() && particles.is_none() {
             return Err(unsupported("a run needs a fluid phase, a particle phase or both"));
         }
+        if case.fluid.is_some() != fluid.is_some() || case.particles.is_some() != particles.is_some() {
+            let has = |b: bool| if b { "has" } else { "has no" };
+            return Err(unsupported(format!(
+                "the case {} [fluid] and {} [particles], the run {} fluid phase and {} particle phase",
+                has(case.fluid.is_some()),
+                has(case.particles.is_some()),
+                has(fluid.is_some()),
+                has(particles.is_some())
+            )));
+        }
         if fluid.is_some() && state.fluid.is_none() {
             return Err(unsupported("the state has no fluid for the fluid phase (a checkpoint of a particle-only run?)"));
         }
