@@ -3,6 +3,8 @@
 use nalgebra::{Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::mesh::motion::rigid_rotation_velocity;
+
 pub type Vec3 = Vector3<f64>;
 
 /// Rigid motion of a wall, resolved from `[walls.motion]` (and `[rotor]`).
@@ -61,10 +63,7 @@ impl Wall {
     pub fn surface_velocity(&self, p: Vec3) -> Vec3 {
         match &self.motion {
             WallMotion::Static => Vec3::zeros(),
-            WallMotion::Rotate { omega, axis, origin } => {
-                let w = *omega * axis.normalize();
-                w.cross(&(p - (origin + self.displacement)))
-            }
+            WallMotion::Rotate { omega, axis, origin } => rigid_rotation_velocity(*omega, &axis.normalize(), &(origin + self.displacement), &p),
             WallMotion::Translate { velocity } => *velocity,
         }
     }

@@ -1,13 +1,15 @@
 //! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
 
 use spillage_model::case::Case;
-use spillage_model::fluid::settings::{NumericsSection, TimeScheme};
+use spillage_model::fluid::initial::initial_fluid_state;
+use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
+use spillage_model::fluid::time_scheme::time_coefficients;
 use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
 
-use super::boundary::Conditions;
+use super::boundary::{self, Conditions};
 use super::diagnostics;
 use super::geometry::{Geometry, LinkOrigin, RotorMotion};
 use super::gradient::vector_gradient;
@@ -67,29 +69,11 @@ impl ReferenceFluid {
             (None, _) => None,
         };
 
-        let n_cells = mesh.cell_volumes.len();
-        if state.fluid.is_none() {
-            let mut f = FluidState::at_rest(n_cells, mesh.face_areas.len(), mesh.n_internal_faces);
-            for c in 0..n_cells {
-                let x = mesh.cell_centres[c];
-                f.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
-            }
-            f.velocity_old = f.velocity.clone();
-            // initial flux: the interpolated initial velocity (made divergence-free by the first step)
-            for face in 0..mesh.n_internal_faces {
-                let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
-                let w = mesh.face_weight[face];
-                let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
-                f.flux[face] = u.dot(&mesh.face_areas[face]);
-            }
-            f.flux_old = f.flux.clone();
-            state.fluid = Some(f);
-        }
-        if let Some(f) = state.fluid.as_mut() {
-            f.fill_missing_old_flux(&mesh);
-        }
+        // initial flux: the interpolated initial velocity (made divergence-free by the first step)
+        let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
+        fluid_state.fill_missing_old_flux(&mesh);
+        fluid_state.check_matches(&mesh).map_err(SolverError::Unsupported)?;
         let mut solver = ReferenceFluid { mesh, state, conditions, numerics, nu: fluid.kinematic_viscosity, body_force, rotor, interface_axis, dt };
-        solver.check_sizes()?;
         if let Some(r) = &solver.rotor {
             let angle = solver.state.rotor_angle;
             set_zone_angle(&mut solver.mesh, r.zone, angle)?;
@@ -125,26 +109,6 @@ impl ReferenceFluid {
         div
     }
 
-    fn check_sizes(&self) -> Result<(), SolverError> {
-        let f = self.state.fluid.as_ref().expect("fluid state");
-        let n = self.mesh.cell_volumes.len();
-        let nf = self.mesh.face_areas.len();
-        let ok = f.velocity.len() == n
-            && f.velocity_old.len() == n
-            && f.pressure.len() == n
-            && f.alpha.len() == n
-            && f.alpha_old.len() == n
-            && f.alpha_old_old.len() == n
-            && f.flux.len() == nf
-            && f.flux_old.len() == nf
-            && f.boundary_pressure.len() == nf - self.mesh.n_internal_faces;
-        if ok {
-            Ok(())
-        } else {
-            Err(SolverError::Unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")))
-        }
-    }
-
     /// The links and boundary faces of the current mesh position.
     pub fn geometry(&self) -> Geometry {
         let links = match self.interface_axis {
@@ -154,18 +118,9 @@ impl ReferenceFluid {
         Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), links)
     }
 
-    fn time_coefficients(&self, dt: f64) -> [f64; 3] {
-        if self.state.step == 0 || self.numerics.time_scheme == TimeScheme::Euler || self.state.dt <= 0.0 {
-            [1.0, -1.0, 0.0]
-        } else {
-            let r = dt / self.state.dt;
-            [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
-        }
-    }
-
     fn advance(&mut self) -> Result<StepReport, SolverError> {
         let dt = self.dt;
-        let time_coefficients = self.time_coefficients(dt);
+        let time_coefficients = time_coefficients(self.numerics.time_scheme, self.state.step == 0, dt, self.state.dt);
         if let Some(r) = &self.rotor {
             let angle = self.state.rotor_angle + r.omega * dt;
             set_zone_angle(&mut self.mesh, r.zone, angle)?;
@@ -178,9 +133,9 @@ impl ReferenceFluid {
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
         let boundary_velocity: Vec<Option<Vec3>> =
-            geo.boundary.iter().map(|face| self.conditions.fixed_velocity(face, self.rotor.as_ref())).collect();
+            geo.boundary.iter().map(|face| boundary::fixed_velocity(&self.conditions, face, self.rotor.as_ref())).collect();
         let prescribed: Vec<Option<f64>> =
-            geo.boundary.iter().map(|face| self.conditions.prescribed_flux(face, self.rotor.as_ref())).collect();
+            geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
         let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &moved, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {
