@@ -6,9 +6,10 @@
 //! `spillage_reference::fluid`, step 2).
 
 use rayon::prelude::*;
+use spillage_model::fluid::conditions::Conditions;
+use spillage_model::mesh::motion::rigid_rotation_velocity;
 use spillage_model::mesh::{Mesh, PatchKind, Vec3};
 
-use super::conditions::Conditions;
 use crate::linear::reduce::CHUNK;
 
 /// Rigid rotation of the rotor zone.
@@ -24,8 +25,14 @@ pub struct Rotor {
 impl Rotor {
     #[inline]
     pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
-        (self.axis * self.omega).cross(&(x - self.origin))
+        rigid_rotation_velocity(self.omega, &self.axis, &self.origin, x)
     }
+}
+
+/// The rotor's velocity field x ↦ ω â × (x − x₀), as the boundary conditions take it (`None`
+/// without a rotor).
+pub fn rotor_velocity(rotor: Option<&Rotor>) -> Option<impl Fn(&Vec3) -> Vec3 + '_> {
+    rotor.map(|r| move |x: &Vec3| r.velocity_at(x))
 }
 
 /// Links between two cells, one entry per array per link; links `0..n_internal` are the

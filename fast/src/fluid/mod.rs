@@ -14,7 +14,6 @@
 //!   Jacobi-BiCGStab ([`crate::linear`]), both with OpenFOAM-normalised residual tolerances ([`FastSettings`]).
 
 pub mod assembly;
-pub mod conditions;
 pub mod interface;
 pub mod layout;
 mod pimple;

@@ -4,6 +4,8 @@
 use rayon::prelude::*;
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::fluid::conditions::{Condition, Conditions};
+use spillage_model::fluid::initial::initial_fluid_state;
 use spillage_model::fluid::settings::{NumericsSection, PressureWallCondition};
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
@@ -13,9 +15,8 @@ use spillage_model::state::State;
 use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
 
 use super::assembly::*;
-use super::conditions::{Condition, Conditions};
 use super::interface::{push_overlaps, Frame};
-use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor, NO_CELL};
+use super::layout::{rotor_velocity, solved_components, Adjacency, Boundary, Links, Rotor, NO_CELL};
 use crate::linear::amg::Amg;
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::pcg::Pcg;
@@ -206,41 +207,9 @@ impl FastFluid {
         }
 
         let n = mesh.n_cells();
-        if state.fluid.is_none() {
-            let mut f = FluidState::at_rest(n, mesh.n_faces(), mesh.n_internal_faces);
-            for c in 0..n {
-                let x = mesh.cell_centres[c];
-                f.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
-            }
-            f.velocity_old = f.velocity.clone();
-            for face in 0..mesh.n_internal_faces {
-                let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
-                let w = mesh.face_weight[face];
-                let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
-                f.flux[face] = u.dot(&mesh.face_areas[face]);
-            }
-            f.flux_old = f.flux.clone();
-            state.fluid = Some(f);
-        }
-        if let Some(f) = state.fluid.as_mut() {
-            f.fill_missing_old_flux(&mesh);
-        }
-        {
-            let f = state.fluid.as_ref().expect("fluid state");
-            let nf = mesh.n_faces();
-            let ok = f.velocity.len() == n
-                && f.velocity_old.len() == n
-                && f.pressure.len() == n
-                && f.alpha.len() == n
-                && f.alpha_old.len() == n
-                && f.alpha_old_old.len() == n
-                && f.flux.len() == nf
-                && f.flux_old.len() == nf
-                && f.boundary_pressure.len() == nf - mesh.n_internal_faces;
-            if !ok {
-                return Err(unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")));
-            }
-        }
+        let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
+        fluid_state.fill_missing_old_flux(&mesh);
+        fluid_state.check_matches(&mesh).map_err(unsupported)?;
         let mut mesh = mesh;
         if let Some(r) = &rotor {
             mesh.set_zone_angle(r.zone, state.rotor_angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
@@ -474,8 +443,8 @@ impl FastFluid {
                 let cond = bnd.condition[b] as usize;
                 let face = bnd.face[b] as usize;
                 w.p_b[b] = fluid.boundary_pressure[face - n_internal_faces];
-                w.fixed_u[b] = self.conditions.fixed_velocity(cond, &bnd.centre[b], self.rotor.as_ref()).unwrap_or(Vec3::repeat(f64::NAN));
-                let pres = self.conditions.prescribed_flux(cond, &bnd.centre[b], &bnd.area[b], bnd.mesh_flux[b], self.rotor.as_ref());
+                w.fixed_u[b] = self.conditions.fixed_velocity(cond, &bnd.centre[b], rotor_velocity(self.rotor.as_ref())).unwrap_or(Vec3::repeat(f64::NAN));
+                let pres = self.conditions.prescribed_flux(cond, &bnd.centre[b], &bnd.area[b], bnd.mesh_flux[b], rotor_velocity(self.rotor.as_ref()));
                 w.prescribed[b] = pres.unwrap_or(f64::NAN);
                 w.boundary_flux[b] = pres.unwrap_or(fluid.flux[face]);
             }

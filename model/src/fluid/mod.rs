@@ -1,6 +1,9 @@
 //! Fluid-phase definitions shared by both solvers: properties, numerics settings, boundary
-//! conditions and the fluid state. (Owned by the reference-fluid work; placeholders for now.)
+//! conditions, time coefficients, the initial state and the fluid state.
 
+pub mod conditions;
+pub mod initial;
 pub mod sampling;
 pub mod settings;
 pub mod state;
+pub mod time_scheme;

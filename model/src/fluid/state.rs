@@ -46,6 +46,26 @@ impl FluidState {
         }
     }
 
+    /// Whether every field has the length `mesh` asks for (cells, faces, boundary faces); the
+    /// error names the mesh's sizes.
+    pub fn check_matches(&self, mesh: &crate::mesh::Mesh) -> Result<(), String> {
+        let (n, nf) = (mesh.n_cells(), mesh.n_faces());
+        let ok = self.velocity.len() == n
+            && self.velocity_old.len() == n
+            && self.pressure.len() == n
+            && self.alpha.len() == n
+            && self.alpha_old.len() == n
+            && self.alpha_old_old.len() == n
+            && self.flux.len() == nf
+            && self.flux_old.len() == nf
+            && self.boundary_pressure.len() == nf - mesh.n_internal_faces;
+        if ok {
+            Ok(())
+        } else {
+            Err(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)"))
+        }
+    }
+
     /// A checkpoint without φ^{n−1} (written before it was stored) gets the flux of the
     /// interpolated u^{n−1} on internal faces and φⁿ on boundary faces: the old-old part of
     /// the time-derivative flux correction then vanishes on the first step instead of using
@@ -68,6 +88,16 @@ impl FluidState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn check_matches_names_the_mesh_sizes() {
+        let mesh = crate::mesh::Mesh::rotor_stator(&crate::mesh::cylindrical::tests::rotor_stator()).unwrap();
+        let mut state = FluidState::at_rest(mesh.n_cells(), mesh.n_faces(), mesh.n_internal_faces);
+        assert_eq!(state.check_matches(&mesh), Ok(()));
+        state.flux_old.pop();
+        let message = state.check_matches(&mesh).unwrap_err();
+        assert!(message.contains(&format!("{} cells, {} faces", mesh.n_cells(), mesh.n_faces())), "{message}");
+    }
 
     /// A state serialised before `flux_old` existed still reads (empty `flux_old`).
     #[test]

@@ -10,9 +10,17 @@
 use super::{Mesh, MeshError, Vec3, ZoneGeometry, ZoneRotation};
 use nalgebra::{Rotation3, Unit};
 
+/// Velocity ω â × (x − x₀) of point `x` on a body rotating rigidly at `omega` (rad/s) about the
+/// unit `axis` â through `origin` x₀: the one definition of a rotating wall's, rotor face's and
+/// rotor zone's velocity (spec fluid-dem-model.md §4.1, §7.4). Computed as (â ω) × (x − x₀).
+#[inline]
+pub fn rigid_rotation_velocity(omega: f64, axis: &Vec3, origin: &Vec3, x: &Vec3) -> Vec3 {
+    (axis * omega).cross(&(x - origin))
+}
+
 /// Velocity ω â × (x − x₀) of a point moving with a zone rotating at `omega` (rad/s).
 pub fn rigid_velocity(rotation: &ZoneRotation, omega: f64, point: &Vec3) -> Vec3 {
-    (omega * rotation.axis).cross(&(point - rotation.origin))
+    rigid_rotation_velocity(omega, &rotation.axis, &rotation.origin, point)
 }
 
 impl Mesh {

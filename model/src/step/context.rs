@@ -3,6 +3,7 @@
 
 use super::rotor_pose::RotorPose;
 use crate::fluid::settings::TimeScheme;
+pub use crate::fluid::time_scheme::time_coefficients;
 
 /// The clock of one step from tⁿ to tⁿ⁺¹ = tⁿ + Δt. Built by the driver only.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,7 +16,7 @@ pub struct StepContext {
     pub dt: f64,
     /// Δtᵒ of the previous step [s] (0 before the first).
     pub dt_old: f64,
-    /// d/dt q ≈ (c₀qⁿ⁺¹ + c₁qⁿ + c₂qⁿ⁻¹)/Δt ([`time_coefficients`]).
+    /// d/dt q ≈ (c₀qⁿ⁺¹ + c₁qⁿ + c₂qⁿ⁻¹)/Δt ([`crate::fluid::time_scheme::time_coefficients`]).
     pub time_coefficients: [f64; 3],
     /// The rotor at tⁿ, `None` without a rotor.
     pub rotor_start: Option<RotorPose>,
@@ -51,47 +52,9 @@ impl StepContext {
     }
 }
 
-/// Coefficients of the time derivative d/dt q ≈ (c₀qⁿ⁺¹ + c₁qⁿ + c₂qⁿ⁻¹)/Δt (spec
-/// fluid-dem-model.md §8.7; reference fluid module doc, step 1).
-///
-/// Implicit Euler (1, −1, 0) on the first step, with `time_scheme = "euler"`, or when there is
-/// no previous step (`dt_old ≤ 0`); otherwise BDF2 for variable steps with r = Δt/Δtᵒ:
-/// c₀ = (1+2r)/(1+r), c₁ = −(1+r), c₂ = r²/(1+r), exact for quadratics in t on any step
-/// sequence, so an adaptive Δt keeps second order.
-pub fn time_coefficients(scheme: TimeScheme, first_step: bool, dt: f64, dt_old: f64) -> [f64; 3] {
-    if first_step || scheme == TimeScheme::Euler || dt_old <= 0.0 {
-        [1.0, -1.0, 0.0]
-    } else {
-        let r = dt / dt_old;
-        [(1.0 + 2.0 * r) / (1.0 + r), -(1.0 + r), r * r / (1.0 + r)]
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Variable-step BDF2 differentiates q(t) = a + bt + ct² exactly at tⁿ⁺¹ for any step
-    /// ratio (round-off: the coefficients are O(1) and q is O(10), so 1e-12 relative).
-    #[test]
-    fn variable_step_bdf2_is_exact_for_quadratics() {
-        let q = |t: f64| 3.0 - 2.0 * t + 5.0 * t * t;
-        let dq = |t: f64| -2.0 + 10.0 * t;
-        for (dt, dt_old) in [(0.1, 0.1), (0.13, 0.07), (0.07, 0.13), (0.3, 0.01)] {
-            let t0 = 0.4;
-            let (t_old, t_new) = (t0 - dt_old, t0 + dt);
-            let [c0, c1, c2] = time_coefficients(TimeScheme::Backward, false, dt, dt_old);
-            let estimate = (c0 * q(t_new) + c1 * q(t0) + c2 * q(t_old)) / dt;
-            assert!((estimate - dq(t_new)).abs() <= 1e-12 * dq(t_new).abs().max(1.0), "Δt {dt}, Δtᵒ {dt_old}: {estimate} vs {}", dq(t_new));
-        }
-    }
-
-    #[test]
-    fn euler_on_the_first_step_and_when_chosen() {
-        assert_eq!(time_coefficients(TimeScheme::Backward, true, 0.1, 0.1), [1.0, -1.0, 0.0]);
-        assert_eq!(time_coefficients(TimeScheme::Euler, false, 0.1, 0.1), [1.0, -1.0, 0.0]);
-        assert_eq!(time_coefficients(TimeScheme::Backward, false, 0.1, 0.0), [1.0, -1.0, 0.0]);
-    }
 
     #[test]
     fn rotor_after_the_whole_step_is_the_end_pose() {

@@ -45,12 +45,7 @@ impl RotorPose {
     }
 }
 
-/// Velocity ω â × (x − x₀) of a point of a body rotating at `omega` [rad/s] about the unit
-/// `axis` through `origin` (spec fluid-dem-model.md §4.1, §7.4): the one rigid-body velocity
-/// of the code (rotor faces, rotating walls of the fluid, DEM wall surfaces).
-pub fn rigid_rotation_velocity(omega: f64, axis: &Vec3, origin: &Vec3, x: &Vec3) -> Vec3 {
-    (omega * axis).cross(&(x - origin))
-}
+pub use crate::mesh::motion::rigid_rotation_velocity;
 
 #[cfg(test)]
 mod tests {

@@ -3,6 +3,8 @@
 use nalgebra::{Rotation3, Unit, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::mesh::motion::rigid_rotation_velocity;
+
 pub type Vec3 = Vector3<f64>;
 
 /// Rigid motion of a wall, resolved from `[walls.motion]` (and `[rotor]`).
@@ -91,7 +93,7 @@ impl Wall {
     /// Velocity of the wall material at world point `p` [m/s] (§7.4: ω × (x − x_axis) + v).
     pub fn surface_velocity(&self, p: Vec3) -> Vec3 {
         let pose = &self.pose;
-        crate::step::rigid_rotation_velocity(pose.omega, &pose.axis, &(pose.origin + pose.displacement), &p) + pose.velocity
+        rigid_rotation_velocity(pose.omega, &pose.axis, &(pose.origin + pose.displacement), &p) + pose.velocity
     }
 }
 

@@ -5,6 +5,7 @@
 //! condition from the case; empty faces (2-D) and interface faces carry no flux of their own and
 //! are not listed.
 
+use spillage_model::mesh::motion::rigid_rotation_velocity;
 use spillage_model::mesh::{Mesh, PatchKind, Vec3};
 
 /// Where a link comes from.
@@ -88,7 +89,7 @@ pub struct RotorMotion {
 
 impl RotorMotion {
     pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
-        (self.axis * self.omega).cross(&(x - self.origin))
+        rigid_rotation_velocity(self.omega, &self.axis, &self.origin, x)
     }
 }
 

@@ -1,16 +1,17 @@
 //! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
 
 use spillage_model::case::Case;
+use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::fluid::initial::initial_fluid_state;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
-use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::particles::Particle;
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
 
-use super::boundary::Conditions;
+use super::boundary::{self, Conditions};
 use super::diagnostics;
 use super::geometry::{Geometry, LinkOrigin, RotorMotion};
 use super::gradient::vector_gradient;
@@ -71,27 +72,9 @@ impl ReferenceFluid {
             (None, _) => None,
         };
 
-        let n_cells = mesh.cell_volumes.len();
-        if state.fluid.is_none() {
-            let mut f = FluidState::at_rest(n_cells, mesh.face_areas.len(), mesh.n_internal_faces);
-            for c in 0..n_cells {
-                let x = mesh.cell_centres[c];
-                f.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
-            }
-            f.velocity_old = f.velocity.clone();
-            // initial flux: the interpolated initial velocity (made divergence-free by the first step)
-            for face in 0..mesh.n_internal_faces {
-                let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
-                let w = mesh.face_weight[face];
-                let u = Vec3::from(f.velocity[p]) * w + Vec3::from(f.velocity[nb]) * (1.0 - w);
-                f.flux[face] = u.dot(&mesh.face_areas[face]);
-            }
-            f.flux_old = f.flux.clone();
-            state.fluid = Some(f);
-        }
-        if let Some(f) = state.fluid.as_mut() {
-            f.fill_missing_old_flux(&mesh);
-        }
+        let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
+        fluid_state.fill_missing_old_flux(&mesh);
+        fluid_state.check_matches(&mesh).map_err(SolverError::Unsupported)?;
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
@@ -103,7 +86,6 @@ impl ReferenceFluid {
             interface_axis,
             dt_old: state.dt,
         };
-        solver.check_sizes(state.fluid.as_ref().expect("set above"))?;
         solver.place_rotor(RotorPose::from_case(case, state.rotor_angle).as_ref())?;
         Ok(solver)
     }
@@ -134,25 +116,6 @@ impl ReferenceFluid {
         div
     }
 
-    fn check_sizes(&self, f: &FluidState) -> Result<(), SolverError> {
-        let n = self.mesh.cell_volumes.len();
-        let nf = self.mesh.face_areas.len();
-        let ok = f.velocity.len() == n
-            && f.velocity_old.len() == n
-            && f.pressure.len() == n
-            && f.alpha.len() == n
-            && f.alpha_old.len() == n
-            && f.alpha_old_old.len() == n
-            && f.flux.len() == nf
-            && f.flux_old.len() == nf
-            && f.boundary_pressure.len() == nf - self.mesh.n_internal_faces;
-        if ok {
-            Ok(())
-        } else {
-            Err(SolverError::Unsupported(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)")))
-        }
-    }
-
     /// The links and boundary faces of the current mesh position.
     pub fn geometry(&self) -> Geometry {
         let links = match self.interface_axis {
@@ -174,9 +137,9 @@ impl ReferenceFluid {
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
         let boundary_velocity: Vec<Option<Vec3>> =
-            geo.boundary.iter().map(|face| self.conditions.fixed_velocity(face, self.rotor.as_ref())).collect();
+            geo.boundary.iter().map(|face| boundary::fixed_velocity(&self.conditions, face, self.rotor.as_ref())).collect();
         let prescribed: Vec<Option<f64>> =
-            geo.boundary.iter().map(|face| self.conditions.prescribed_flux(face, self.rotor.as_ref())).collect();
+            geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
         let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &moved, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {

@@ -1,0 +1,101 @@
+//! Boundary conditions of the case resolved per mesh patch (spec fluid-dem-model.md §8.8): the
+//! one definition both fluid solvers use.
+
+use crate::case::Case;
+use crate::mesh::motion::rigid_rotation_velocity;
+use crate::mesh::{Mesh, PatchKind, Vec3};
+use crate::solver::SolverError;
+
+use super::settings::BoundaryCondition;
+
+/// What a boundary patch imposes.
+#[derive(Clone, Debug)]
+pub enum Condition {
+    /// Fixed velocity u_b(x) = `velocity` + ω â × (x − `origin`) (ω = `angular_velocity` about the
+    /// unit `axis`), plus the rotor's rigid motion if `rotating`; prescribed flux u_b·S.
+    FixedVelocity { velocity: Vec3, angular_velocity: f64, axis: Vec3, origin: Vec3, rotating: bool },
+    /// Fixed kinematic pressure, zero-gradient velocity.
+    FixedPressure { pressure: f64 },
+    /// No normal flux relative to the mesh, zero-gradient tangential velocity.
+    Symmetry,
+}
+
+/// Per-patch conditions: `patch_condition[k]` is the index into `conditions` of mesh patch k,
+/// `None` for patches that carry no condition (empty, sliding interface).
+#[derive(Clone, Debug)]
+pub struct Conditions {
+    pub conditions: Vec<Condition>,
+    pub patch_condition: Vec<Option<usize>>,
+    /// True when some boundary fixes the pressure level (otherwise a reference cell does).
+    pub has_fixed_pressure: bool,
+}
+
+impl Conditions {
+    /// The condition of every mesh patch from the case's `[boundary.<patch>]` tables; pressures
+    /// are made kinematic with the fluid `density`.
+    pub fn from_case(case: &Case, mesh: &Mesh, density: f64) -> Result<Conditions, SolverError> {
+        let mut conditions = Vec::new();
+        let mut patch_condition = Vec::new();
+        let mut has_fixed_pressure = false;
+        for patch in &mesh.patches {
+            match patch.kind {
+                PatchKind::Empty | PatchKind::Interface { .. } => {
+                    patch_condition.push(None);
+                    continue;
+                }
+                PatchKind::Patch | PatchKind::Wall => {}
+            }
+            let Some(bc) = case.boundary.get(&patch.name) else {
+                return Err(SolverError::Unsupported(format!("mesh patch `{}` has no [boundary.{}] condition in the case", patch.name, patch.name)));
+            };
+            let condition = match bc {
+                BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin } => Condition::FixedVelocity {
+                    velocity: Vec3::from(*velocity),
+                    angular_velocity: *angular_velocity,
+                    axis: Vec3::from(*axis).normalize(),
+                    origin: Vec3::from(*origin),
+                    rotating: *rotating,
+                },
+                BoundaryCondition::VelocityInlet { velocity } => {
+                    Condition::FixedVelocity { velocity: Vec3::from(*velocity), angular_velocity: 0.0, axis: Vec3::zeros(), origin: Vec3::zeros(), rotating: false }
+                }
+                BoundaryCondition::PressureOutlet { pressure } => {
+                    has_fixed_pressure = true;
+                    Condition::FixedPressure { pressure: pressure / density }
+                }
+                BoundaryCondition::Symmetry => Condition::Symmetry,
+            };
+            patch_condition.push(Some(conditions.len()));
+            conditions.push(condition);
+        }
+        Ok(Conditions { conditions, patch_condition, has_fixed_pressure })
+    }
+
+    /// Fixed velocity at a boundary face centre, if `condition` fixes one. `rotor_velocity` is
+    /// the rigid velocity of the rotor at a point (added on `rotating` walls; `None` without a
+    /// rotor).
+    pub fn fixed_velocity(&self, condition: usize, centre: &Vec3, rotor_velocity: Option<impl Fn(&Vec3) -> Vec3>) -> Option<Vec3> {
+        match &self.conditions[condition] {
+            Condition::FixedVelocity { velocity, angular_velocity, axis, origin, rotating } => {
+                let mut u = velocity + rigid_rotation_velocity(*angular_velocity, axis, origin, centre);
+                if *rotating {
+                    if let Some(rotor_velocity) = rotor_velocity {
+                        u += rotor_velocity(centre);
+                    }
+                }
+                Some(u)
+            }
+            _ => None,
+        }
+    }
+
+    /// Prescribed absolute flux of a boundary face with area vector `area` and mesh flux
+    /// `mesh_flux` (`None` where the pressure is fixed instead).
+    pub fn prescribed_flux(&self, condition: usize, centre: &Vec3, area: &Vec3, mesh_flux: f64, rotor_velocity: Option<impl Fn(&Vec3) -> Vec3>) -> Option<f64> {
+        match &self.conditions[condition] {
+            Condition::FixedVelocity { .. } => self.fixed_velocity(condition, centre, rotor_velocity).map(|u| u.dot(area)),
+            Condition::Symmetry => Some(mesh_flux),
+            Condition::FixedPressure { .. } => None,
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! The fluid state a run starts from when the state holds none (both solvers).
+
+use crate::case::Case;
+use crate::mesh::{Mesh, Vec3};
+
+use super::state::FluidState;
+
+/// The case's initial velocity in every cell (at rest without a `[fluid]` section), zero
+/// pressure, α_c = 1, and on internal faces the flux of the linearly interpolated initial
+/// velocity, (w u_P + (1−w) u_N)·S (made divergence-free by the first step); the old levels
+/// equal the new ones.
+pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
+    let n_cells = mesh.n_cells();
+    let mut state = FluidState::at_rest(n_cells, mesh.n_faces(), mesh.n_internal_faces);
+    if let Some(fluid) = &case.fluid {
+        for c in 0..n_cells {
+            let x = mesh.cell_centres[c];
+            state.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
+        }
+    }
+    state.velocity_old = state.velocity.clone();
+    for face in 0..mesh.n_internal_faces {
+        let (p, nb) = (mesh.face_owner[face], mesh.face_neighbour[face]);
+        let w = mesh.face_weight[face];
+        let u = Vec3::from(state.velocity[p]) * w + Vec3::from(state.velocity[nb]) * (1.0 - w);
+        state.flux[face] = u.dot(&mesh.face_areas[face]);
+    }
+    state.flux_old = state.flux.clone();
+    state
+}
