@@ -1,9 +1,11 @@
 //! Sliding-interface overlaps in O(faces): both sides share the z layers, so in each layer the
 //! overlaps are a merge sweep of two periodic θ partitions (the rotor one turned by the zone
 //! angle), `spillage_model::mesh::SlidingInterface::overlaps_into`, which also gives each
-//! overlap's θ bounds. Each overlap becomes one link whose area is the chord of the true
-//! circle over the overlap (the reference's construction, `spillage_reference::fluid::interface`), so the
-//! rotor and stator cells stay closed and the interface balances by construction.
+//! overlap's θ bounds. Each overlap becomes one link whose geometry is the construction shared
+//! with the reference, `spillage_model::mesh::InterfaceFrame::overlap_link` (area = chord of the
+//! true circle over the overlap, so the rotor and stator cells stay closed and the interface
+//! balances by construction; d, w and the skewness vector k that the predicted flux's
+//! correction (k·∇u)_f uses, issue 12).
 
 use spillage_model::mesh::{Mesh, Overlap, SlidingInterface};
 

@@ -383,6 +383,38 @@ mod tests {
         assert!(back.iter().all(|b| (b - 1.0).abs() < 1e-15), "{back:?}");
     }
 
+    /// The shared overlap-link construction: area = chord of the true circle out of the rotor
+    /// cell, centre = chord midpoint, the interpolation point w x_P + (1 − w) x_N lies in the
+    /// overlap plane (k·n = 0), and k vanishes when both centres lie on the overlap's ray.
+    #[test]
+    fn overlap_link_geometry() {
+        let frame = InterfaceFrame::new(Vec3::zeros(), Vec3::z());
+        let (radius, lo, hi) = (1.5, 0.1, 0.3);
+        let mid = 0.2f64;
+        let ray = Vec3::new(mid.cos(), mid.sin(), 0.0);
+        let outward = ray; // a rotor face area pointing outward (rotor inside)
+        // on the ray: no skew; inner centre 0.1 inside the chord, outer 0.2 outside
+        let chord_r = radius * (0.1f64).cos();
+        let (xp, xn) = (ray * (chord_r - 0.1) + Vec3::z() * 0.05, ray * (chord_r + 0.2) + Vec3::z() * 0.05);
+        let g = frame.overlap_link(radius, lo, hi, 0.0, 0.1, &outward, &xp, &xn);
+        let chord = 2.0 * radius * (0.1f64).sin() * 0.1;
+        // round-off of O(1) trigonometry: 1e-14
+        assert!((g.area - ray * chord).norm() < 1e-14, "{:?}", g.area);
+        assert!((g.centre - (ray * chord_r + Vec3::z() * 0.05)).norm() < 1e-14);
+        assert!((g.weight - 2.0 / 3.0).abs() < 1e-13 && g.skew.norm() < 1e-14, "{g:?}");
+        assert_eq!(g.delta, xn - xp);
+        // stator centre turned by 0.15 rad: k is tangential (in the overlap plane), O(h)
+        let turned = Vec3::new((mid + 0.15).cos(), (mid + 0.15).sin(), 0.0) * (chord_r + 0.2) + Vec3::z() * 0.05;
+        let g = frame.overlap_link(radius, lo, hi, 0.0, 0.1, &outward, &xp, &turned);
+        assert!(g.skew.dot(&g.area.normalize()).abs() < 1e-14, "{g:?}");
+        assert!(g.skew.norm() > 0.01, "{g:?}");
+        let point = xp * g.weight + turned * (1.0 - g.weight);
+        assert!((point + g.skew - g.centre).norm() < 1e-14);
+        // the area points out of the rotor cell whichever way the face area is given
+        let g = frame.overlap_link(radius, lo, hi, 0.0, 0.1, &(-outward), &xn, &xp);
+        assert!(g.area.dot(&ray) < 0.0);
+    }
+
     #[test]
     fn overlap_1d_rejects_bad_edges() {
         assert!(overlap_1d(&[0.0, 1.0, 0.5], &[0.0, 0.5])

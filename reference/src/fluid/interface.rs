@@ -11,6 +11,14 @@
 //! preservation), and a rigid rotation of the rotor sweeps no volume through the overlaps
 //! (the chord midpoint velocity ω×r is parallel to the chord).
 //!
+//! The construction is shared with the fast solver: `spillage_model::mesh::InterfaceFrame::
+//! overlap_link` gives the area, centre, d = x_N − x_P, the weight w from the normal distances
+//! and the skewness vector k = x_f − (w x_P + (1 − w) x_N). Rotor and stator cell centres lie at
+//! different θ, so d is not parallel to S (the schemes' over-relaxed split handles that) and the
+//! linear interpolation point lies O(h) beside the overlap centre; the predicted flux corrects
+//! (A⁻¹H)_f by (k·∇u)_f there (`pressure`, issue 12), without which a swirling flow gets a
+//! first-order spurious radial velocity at the interface.
+//!
 //! The area fractions of spec (T3.33), A_s∩A_t / A_t, are |S_overlap| / |S_face| of this
 //! construction; they are not needed separately because the flux, not a face value, is what
 //! crosses the interface.
