@@ -1,38 +1,22 @@
 //! Sliding-interface overlaps in O(faces): both sides share the z layers, so in each layer the
 //! overlaps are a merge sweep of two periodic θ partitions (the rotor one turned by the zone
 //! angle), `spillage_model::mesh::SlidingInterface::overlaps_into`, which also gives each
-//! overlap's θ bounds. Each overlap becomes one link whose area is the chord of the true
-//! circle over the overlap (the reference's construction, `spillage_reference::fluid::interface`), so the
-//! rotor and stator cells stay closed and the interface balances by construction.
+//! overlap's θ bounds. Each overlap becomes one link whose geometry is the construction shared
+//! with the reference, `spillage_model::mesh::InterfaceFrame::overlap_link` (area = chord of the
+//! true circle over the overlap, so the rotor and stator cells stay closed and the interface
+//! balances by construction; d, w and the skewness vector k that the predicted flux's
+//! correction (k·∇u)_f uses, issue 12).
 
-use spillage_model::mesh::{Mesh, Overlap, SlidingInterface, Vec3};
+use spillage_model::mesh::{Mesh, Overlap, SlidingInterface};
 
 use super::layout::{Links, Rotor};
 
-/// Cylindrical frame of the interface (same construction as the reference's).
-#[derive(Clone, Debug)]
-pub struct Frame {
-    pub origin: Vec3,
-    pub axis: Vec3,
-    e1: Vec3,
-    e2: Vec3,
-}
+/// Cylindrical frame of the interface: the one construction both solvers use.
+pub use spillage_model::mesh::InterfaceFrame as Frame;
 
-impl Frame {
-    pub fn new(origin: Vec3, axis: Vec3) -> Frame {
-        let axis = axis.normalize();
-        let trial = if axis.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
-        let e1 = (trial - axis * trial.dot(&axis)).normalize();
-        let e2 = axis.cross(&e1);
-        Frame { origin, axis, e1, e2 }
-    }
-
-    fn circle_point(&self, radius: f64, theta: f64) -> Vec3 {
-        self.origin + (self.e1 * theta.cos() + self.e2 * theta.sin()) * radius
-    }
-}
-
-/// Appends the overlap links of `interface` at rotor-zone angle `angle` to `links`.
+/// Appends the overlap links of `interface` at rotor-zone angle `angle` to `links`; each
+/// link's geometry is [`Frame::overlap_link`] (chord of the true circle, centre, d, w, skewness
+/// vector k), its mesh flux the rotor velocity at the overlap centre.
 pub fn push_overlaps(mesh: &Mesh, interface: &SlidingInterface, frame: &Frame, angle: f64, rotor: Option<&Rotor>, overlaps: &mut Vec<Overlap>, links: &mut Links) {
     let radius = interface.radius;
     interface.overlaps_into(angle, overlaps);
@@ -43,20 +27,19 @@ pub fn push_overlaps(mesh: &Mesh, interface: &SlidingInterface, frame: &Frame, a
         }
         let (z_lo, z_hi) = (interface.z_edges[o.layer], interface.z_edges[o.layer + 1]);
         let (rotor_face, stator_face) = (o.rotor_face, o.stator_face);
-        let a = frame.circle_point(radius, o.theta_lo);
-        let b = frame.circle_point(radius, o.theta_hi);
-        let mut area = (b - a).cross(&frame.axis) * (z_hi - z_lo);
-        if area.dot(&mesh.face_areas[rotor_face]) < 0.0 {
-            area = -area;
-        }
-        let centre = (a + b) * 0.5 + frame.axis * (0.5 * (z_lo + z_hi));
         let owner = mesh.face_owner[rotor_face];
         let neighbour = mesh.face_owner[stator_face];
-        let (xp, xn) = (mesh.cell_centres[owner], mesh.cell_centres[neighbour]);
-        let n = area.normalize();
-        let dp = (centre - xp).dot(&n).abs();
-        let dn = (xn - centre).dot(&n).abs();
-        let mesh_flux = rotor.map_or(0.0, |r| r.velocity_at(&centre).dot(&area));
-        links.push_overlap(owner, neighbour, area, xn - xp, dn / (dp + dn), mesh_flux, rotor_face, stator_face);
+        let g = frame.overlap_link(
+            radius,
+            o.theta_lo,
+            o.theta_hi,
+            z_lo,
+            z_hi,
+            &mesh.face_areas[rotor_face],
+            &mesh.cell_centres[owner],
+            &mesh.cell_centres[neighbour],
+        );
+        let mesh_flux = rotor.map_or(0.0, |r| r.velocity_at(&g.centre).dot(&g.area));
+        links.push_overlap(owner, neighbour, g.area, g.delta, g.weight, g.skew, mesh_flux, rotor_face, stator_face);
     }
 }

@@ -57,6 +57,9 @@ pub struct Links {
     /// Rotor and stator faces of overlap link `n_internal + k`.
     pub rotor_face: Vec<u32>,
     pub stator_face: Vec<u32>,
+    /// Skewness vector k = x_f − (w x_P + (1 − w) x_N) of overlap link `n_internal + k`
+    /// (`spillage_model::mesh::OverlapLinkGeometry::skew`); zero, hence not stored, on mesh faces.
+    pub skew: Vec<Vec3>,
 }
 
 impl Links {
@@ -99,6 +102,7 @@ impl Links {
             mesh_flux: vec![0.0; n],
             rotor_face: Vec::new(),
             stator_face: Vec::new(),
+            skew: Vec::new(),
         };
         for f in 0..n {
             links.update_face(mesh, f, rotor, in_rotor);
@@ -130,11 +134,12 @@ impl Links {
         }
         self.rotor_face.clear();
         self.stator_face.clear();
+        self.skew.clear();
     }
 
     /// Appends an overlap link.
     #[allow(clippy::too_many_arguments)]
-    pub fn push_overlap(&mut self, owner: usize, neighbour: usize, area: Vec3, delta: Vec3, weight: f64, mesh_flux: f64, rotor_face: usize, stator_face: usize) {
+    pub fn push_overlap(&mut self, owner: usize, neighbour: usize, area: Vec3, delta: Vec3, weight: f64, skew: Vec3, mesh_flux: f64, rotor_face: usize, stator_face: usize) {
         let l = self.len();
         self.owner.push(owner as u32);
         self.neighbour.push(neighbour as u32);
@@ -146,6 +151,7 @@ impl Links {
         self.mesh_flux.push(0.0);
         self.rotor_face.push(rotor_face as u32);
         self.stator_face.push(stator_face as u32);
+        self.skew.push(skew);
         self.set_geometry(l, area, delta, weight, mesh_flux);
     }
 }

@@ -689,14 +689,18 @@ impl FastFluid {
                 scalar_gradient(links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p_work, &p_b, &mut w.grad_p);
             }
             {
-                let (rau, hbya, gp, ddt_corr) = (&w.rau, &w.hbya, &w.grad_p, &w.ddt_corr);
+                let (rau, hbya, gp, ddt_corr, gu) = (&w.rau, &w.hbya, &w.grad_p, &w.ddt_corr, &w.grad_u);
                 let (oh, oc, oa) = (Out::of(&mut w.link_h), Out::of(&mut w.pcoef), Out::of(&mut w.ah));
                 par_for(links.len(), |l| {
                     let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
                     let wt = links.weight[l];
                     let alpha_f = wt * alpha[p] + (1.0 - wt) * alpha[q];
                     let rau_f = wt * rau[p] + (1.0 - wt) * rau[q];
-                    let hbya_f = hbya[p] * wt + hbya[q] * (1.0 - wt);
+                    let mut hbya_f = hbya[p] * wt + hbya[q] * (1.0 - wt);
+                    if l >= links.n_internal {
+                        // overlap link: skewness correction (k·∇u)_f, as the reference's `pressure` (issue 12)
+                        hbya_f += directional(&interpolate_tensor(wt, &gu[p], &gu[q]), &links.skew[l - links.n_internal]);
+                    }
                     let non_orthogonal_flux = if orthogonal {
                         0.0
                     } else {

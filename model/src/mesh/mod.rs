@@ -33,7 +33,7 @@ pub use cartesian::BoxSpec;
 pub use cylindrical::{AnnulusSpec, RotorStatorSpec};
 pub use from_case::build;
 pub use locate::Locator;
-pub use sliding_interface::{overlap_1d, Overlap, Overlap1d, SlidingInterface};
+pub use sliding_interface::{overlap_1d, InterfaceFrame, Overlap, Overlap1d, OverlapLinkGeometry, SlidingInterface};
 
 pub type Vec3 = Vector3<f64>;
 

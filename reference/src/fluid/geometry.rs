@@ -32,6 +32,11 @@ pub struct Link {
     /// Volume swept per second by the moving face, ∫(ω×r)·dS (spec §4.1).
     pub mesh_flux: f64,
     pub origin: LinkOrigin,
+    /// Skewness vector k = x_f − (w x_P + (1 − w) x_N): linear interpolation gives the value
+    /// at x_f − k. Zero on mesh faces (the mesh's own interpolation is used unchanged there);
+    /// on overlap links it is O(h) along the interface (`spillage_model::mesh::InterfaceFrame::
+    /// overlap_link`), and the predicted flux adds (k·∇)(A⁻¹H) (module `pressure`, issue 12).
+    pub skew: Vec3,
 }
 
 impl Link {
@@ -137,6 +142,7 @@ impl Geometry {
                 weight: mesh.face_weight[f],
                 mesh_flux: moving_velocity(owner, &centre).dot(&area),
                 origin: LinkOrigin::Face(f),
+                skew: Vec3::zeros(),
             });
         }
         links.extend(interface_links);

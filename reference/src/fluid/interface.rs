@@ -11,13 +11,21 @@
 //! preservation), and a rigid rotation of the rotor sweeps no volume through the overlaps
 //! (the chord midpoint velocity ω×r is parallel to the chord).
 //!
+//! The construction is shared with the fast solver: `spillage_model::mesh::InterfaceFrame::
+//! overlap_link` gives the area, centre, d = x_N − x_P, the weight w from the normal distances
+//! and the skewness vector k = x_f − (w x_P + (1 − w) x_N). Rotor and stator cell centres lie at
+//! different θ, so d is not parallel to S (the schemes' over-relaxed split handles that) and the
+//! linear interpolation point lies O(h) beside the overlap centre; the predicted flux corrects
+//! (A⁻¹H)_f by (k·∇u)_f there (`pressure`, issue 12), without which a swirling flow gets a
+//! first-order spurious radial velocity at the interface.
+//!
 //! The area fractions of spec (T3.33), A_s∩A_t / A_t, are |S_overlap| / |S_face| of this
 //! construction; they are not needed separately because the flux, not a face value, is what
 //! crosses the interface.
 
 use std::f64::consts::PI;
 
-use spillage_model::mesh::{InterfaceSide, Mesh, PatchKind, Vec3};
+use spillage_model::mesh::{InterfaceFrame, InterfaceSide, Mesh, PatchKind, Vec3};
 
 use super::geometry::{Link, LinkOrigin, RotorMotion};
 
@@ -31,34 +39,7 @@ struct FaceExtent {
     z_hi: f64,
 }
 
-/// Cylindrical frame of the interface.
-struct Frame {
-    origin: Vec3,
-    axis: Vec3,
-    e1: Vec3,
-    e2: Vec3,
-}
-
-impl Frame {
-    fn new(origin: Vec3, axis: Vec3) -> Frame {
-        let axis = axis.normalize();
-        let trial = if axis.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
-        let e1 = (trial - axis * trial.dot(&axis)).normalize();
-        let e2 = axis.cross(&e1);
-        Frame { origin, axis, e1, e2 }
-    }
-    fn theta_z_r(&self, p: &Vec3) -> (f64, f64, f64) {
-        let rel = p - self.origin;
-        let z = rel.dot(&self.axis);
-        let (a, b) = (rel.dot(&self.e1), rel.dot(&self.e2));
-        (b.atan2(a), z, (a * a + b * b).sqrt())
-    }
-    fn circle_point(&self, radius: f64, theta: f64) -> Vec3 {
-        self.origin + (self.e1 * theta.cos() + self.e2 * theta.sin()) * radius
-    }
-}
-
-fn face_extent(mesh: &Mesh, frame: &Frame, face: usize, radius_sum: &mut f64, count: &mut usize) -> FaceExtent {
+fn face_extent(mesh: &Mesh, frame: &InterfaceFrame, face: usize, radius_sum: &mut f64, count: &mut usize) -> FaceExtent {
     let pts = mesh.face_points[face];
     let (t0, _, _) = frame.theta_z_r(&mesh.points[pts[0]]);
     let (mut theta_lo, mut theta_hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -85,7 +66,7 @@ fn face_extent(mesh: &Mesh, frame: &Frame, face: usize, radius_sum: &mut f64, co
 /// Overlap links of every sliding interface of the mesh in its current position.
 /// `axis`/`origin` come from the rotor zone; `rotor` gives the mesh velocity of the rotor side.
 pub fn interface_links(mesh: &Mesh, axis: Vec3, origin: Vec3, rotor: Option<&RotorMotion>) -> Vec<Link> {
-    let frame = Frame::new(origin, axis);
+    let frame = InterfaceFrame::new(origin, axis);
     let mut links = Vec::new();
     let n_interfaces = mesh
         .patches
@@ -142,10 +123,13 @@ pub fn interface_links(mesh: &Mesh, axis: Vec3, origin: Vec3, rotor: Option<&Rot
     links
 }
 
+/// The link of one overlap: geometry from the shared construction
+/// [`InterfaceFrame::overlap_link`] (chord of the true circle, centre, d, w and the skewness
+/// vector k), the rotor's mesh flux at the overlap centre.
 #[allow(clippy::too_many_arguments)]
 fn overlap_link(
     mesh: &Mesh,
-    frame: &Frame,
+    frame: &InterfaceFrame,
     radius: f64,
     rotor_face: usize,
     stator_face: usize,
@@ -155,31 +139,31 @@ fn overlap_link(
     z_hi: f64,
     rotor: Option<&RotorMotion>,
 ) -> Link {
-    let a = frame.circle_point(radius, theta_lo);
-    let b = frame.circle_point(radius, theta_hi);
-    let mut area = (b - a).cross(&frame.axis) * (z_hi - z_lo);
-    if area.dot(&mesh.face_areas[rotor_face]) < 0.0 {
-        area = -area; // point out of the rotor cell
-    }
-    let centre = (a + b) * 0.5 + frame.axis * (0.5 * (z_lo + z_hi));
     let owner = mesh.face_owner[rotor_face];
     let neighbour = mesh.face_owner[stator_face];
-    let (xp, xn) = (mesh.cell_centres[owner], mesh.cell_centres[neighbour]);
-    let n = area.normalize();
-    let dp = (centre - xp).dot(&n).abs();
-    let dn = (xn - centre).dot(&n).abs();
+    let g = frame.overlap_link(
+        radius,
+        theta_lo,
+        theta_hi,
+        z_lo,
+        z_hi,
+        &mesh.face_areas[rotor_face],
+        &mesh.cell_centres[owner],
+        &mesh.cell_centres[neighbour],
+    );
     let mesh_flux = match rotor {
-        Some(r) => r.velocity_at(&centre).dot(&area),
+        Some(r) => r.velocity_at(&g.centre).dot(&g.area),
         None => 0.0,
     };
     Link {
         owner,
         neighbour,
-        area,
-        centre,
-        delta: xn - xp,
-        weight: dn / (dp + dn),
+        area: g.area,
+        centre: g.centre,
+        delta: g.delta,
+        weight: g.weight,
         mesh_flux,
         origin: LinkOrigin::Interface { rotor_face, stator_face },
+        skew: g.skew,
     }
 }

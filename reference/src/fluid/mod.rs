@@ -40,7 +40,9 @@
 //!       pressures) for every solved component (components along empty-patch normals stay 0).
 //!    d. PISO corrector, `piso_correctors` times ([`pressure::correct`]):
 //!       HbyA = (b − Σ_N a_N u_N)/a_P, rAU = V/a_P with the latest u; face values by linear
-//!       interpolation; pressure equation
+//!       interpolation, on overlap links plus the skewness correction (k·∇u)_f of HbyA_f
+//!       (k = overlap centre − interpolation point, ∇u of the momentum assembly; issue 12);
+//!       pressure equation
 //!       Σ α_f rAU_f |S|²/(d·S) (P_N − P_P) = Σ α_f [HbyA_f·S − rAU_f (∇P)_f·T] + Σ_b α_P φ_b
 //!       + ∂α/∂t V, with (∇P)_f·T the explicit non-orthogonal part from the previous pressure,
 //!       repeated `non_orthogonal_correctors` extra times. Prescribed-flux boundaries (walls,

@@ -57,6 +57,9 @@ impl StepInputs<'_> {
 pub struct MomentumSystem {
     pub matrix: SparseMatrix,
     pub source: Vec<Vec3>,
+    /// The velocity gradient the system was assembled with (the pressure corrector's skewness
+    /// correction of (A⁻¹H)_f on overlap links uses it).
+    pub grad_u: Vec<[Vec3; 3]>,
 }
 
 /// Boundary velocity of every boundary face given the latest cell velocity.
@@ -163,10 +166,10 @@ pub fn assemble(
         source[c] += u[c] * (relaxed - a);
         m.diagonal[c] = relaxed;
     }
-    MomentumSystem { matrix: m, source }
+    MomentumSystem { matrix: m, source, grad_u: grad_u.to_vec() }
 }
 
-fn interpolate_tensor(w: f64, a: &[Vec3; 3], b: &[Vec3; 3]) -> [Vec3; 3] {
+pub fn interpolate_tensor(w: f64, a: &[Vec3; 3], b: &[Vec3; 3]) -> [Vec3; 3] {
     [a[0] * w + b[0] * (1.0 - w), a[1] * w + b[1] * (1.0 - w), a[2] * w + b[2] * (1.0 - w)]
 }
 

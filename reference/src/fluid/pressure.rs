@@ -9,7 +9,8 @@ use super::boundary::Condition;
 use super::geometry::BoundaryFace;
 use super::gradient::scalar_gradient;
 use super::linear::SparseMatrix;
-use super::momentum::{MomentumSystem, StepInputs};
+use super::gradient::directional;
+use super::momentum::{interpolate_tensor, MomentumSystem, StepInputs};
 
 /// The pressure-velocity fields the corrector updates.
 pub struct CorrectorFields<'a> {
@@ -103,7 +104,16 @@ pub fn correct(
             let (p, nb) = (link.owner, link.neighbour);
             let alpha_f = link.interpolate(alpha[p], alpha[nb]);
             let rau_f = link.interpolate(rau[p], rau[nb]);
-            let hbya_f = link.interpolate_vec(hbya[p], hbya[nb]);
+            // (A⁻¹H) at the face centre: linear interpolation plus the skewness correction
+            // (k·∇)(A⁻¹H)_f, k = 0 on mesh faces. On an overlap link the rotor and stator
+            // centres lie at different θ, so the linearly interpolated value belongs to a point
+            // O(h) beside the overlap centre, and a swirling field's Cartesian components turn
+            // with θ: without the correction the predicted flux of a pure rotation carries a
+            // spurious normal part u_θ·O(Δθ), first order (issue 12). [R, our construction:
+            // OpenFOAM's skewCorrected scheme, with the gradient of u, which A⁻¹H equals up to
+            // A⁻¹∇P = O(Δt), taken from the momentum assembly of this outer iteration.]
+            let hbya_f = link.interpolate_vec(hbya[p], hbya[nb])
+                + directional(&interpolate_tensor(link.weight, &system.grad_u[p], &system.grad_u[nb]), &link.skew);
             let grad_f = link.interpolate_vec(grad_p[p], grad_p[nb]);
             // predicted flux (A⁻¹H)_f·S minus the explicit non-orthogonal pressure part, plus
             // the time-derivative flux correction (old fluxes in place of interpolated old
