@@ -7,9 +7,8 @@ use spillage_model::solver::SolverError;
 
 use super::boundary::Condition;
 use super::geometry::BoundaryFace;
-use super::gradient::scalar_gradient;
+use super::gradient::{directional, scalar_gradient};
 use super::linear::SparseMatrix;
-use super::gradient::directional;
 use super::momentum::{interpolate_tensor, MomentumSystem, StepInputs};
 
 /// The pressure-velocity fields the corrector updates.
@@ -109,9 +108,11 @@ pub fn correct(
             // centres lie at different θ, so the linearly interpolated value belongs to a point
             // O(h) beside the overlap centre, and a swirling field's Cartesian components turn
             // with θ: without the correction the predicted flux of a pure rotation carries a
-            // spurious normal part u_θ·O(Δθ), first order (issue 12). [R, our construction:
-            // OpenFOAM's skewCorrected scheme, with the gradient of u, which A⁻¹H equals up to
-            // A⁻¹∇P = O(Δt), taken from the momentum assembly of this outer iteration.]
+            // spurious normal part u_θ·O(Δθ), first order (issue 12). [R, our construction; the
+            // spec's Rhie–Chow flux, fluid-dem-model.md §8.5 T4.27, interpolates linearly:
+            // OpenFOAM's skewCorrected scheme, with ∇u of the momentum assembly of this outer
+            // iteration in place of ∇(A⁻¹H) = ∇u + ∇(A⁻¹∇P), A⁻¹ ≈ Δt/c₀, so the difference is
+            // O(Δt·|k|) = O(h²) with Δt ∝ h.]
             let hbya_f = link.interpolate_vec(hbya[p], hbya[nb])
                 + directional(&interpolate_tensor(link.weight, &system.grad_u[p], &system.grad_u[nb]), &link.skew);
             let grad_f = link.interpolate_vec(grad_p[p], grad_p[nb]);
