@@ -1,5 +1,5 @@
-//! Per-link and per-cell kernels: gradients, momentum assembly, pressure assembly, fluxes.
-//! Every per-cell quantity is a gather over the cell's links in ascending link order (the
+//! Kernels shared by the stages of a step: Gauss gradients, tensor interpolation, the explicit
+//! stress, the convection weight, and the parallel-loop helpers. Every per-cell quantity is a gather over the cell's links in ascending link order (the
 //! reference's accumulation order), so each cell's value is computed by one thread in a fixed
 //! order and the result is independent of the thread count.
 

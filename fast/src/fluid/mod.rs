@@ -13,9 +13,24 @@
 //!   aggregation is rebuilt only when the overlap links change the pattern), momentum by
 //!   Jacobi-BiCGStab ([`crate::linear`]), both with OpenFOAM-normalised residual tolerances ([`FastSettings`]).
 
+//!
+//! One step ([`FastFluid`], `pimple.rs`) is a pipeline over free kernels, one module per stage:
+//! [`starting_values`] (step 3), [`momentum`] (steps 4a–c), [`pressure_corrector`] (step 4d),
+//! [`diagnostics`] and [`finish_step`] (step 5); they read [`step_inputs`] and write the
+//! [`buffers`] of the step. [`assembly`] holds the shared gradient and interpolation kernels.
+
 pub mod assembly;
+pub mod buffers;
+pub mod diagnostics;
+pub mod finish_step;
 pub mod interface;
 pub mod layout;
+pub mod momentum;
 mod pimple;
+pub mod pressure_corrector;
+pub mod settings;
+pub mod starting_values;
+pub mod step_inputs;
 
-pub use pimple::{FastFluid, FastSettings, SolveCounts};
+pub use pimple::FastFluid;
+pub use settings::{FastSettings, SolveCounts};

@@ -1,126 +1,39 @@
 //! [`FastFluid`]: one PIMPLE step per call, the algorithm of the reference solver (module doc
 //! of `spillage_reference::fluid`, steps 1–5) on struct-of-arrays fields with iterative solves.
+//! [`FastFluid::advance`] reads top to bottom as the algorithm; each stage is a free kernel in
+//! its own module, called with named inputs:
+//!
+//! 1. rotor: the zone turned to the step's rotor pose, its faces moved in place ([`FastFluid::turn_rotor`]);
+//! 2. geometry: overlap links of the new position, orthogonality, buffer sizes (here);
+//! 3. [`starting_values`]: u*, P*, φ*, the time-derivative flux correction, boundary data;
+//! 4. outer loop: [`momentum::boundary_velocities`], ∇u, [`momentum::assemble`],
+//!    [`momentum::predict`], [`pressure_corrector::correct`] × `piso_correctors`, convergence;
+//! 5. [`diagnostics::step_diagnostics`], [`finish_step`]: state update and report.
 
-use rayon::prelude::*;
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
-use spillage_model::fluid::conditions::{Condition, Conditions};
+use spillage_model::fluid::conditions::Conditions;
 use spillage_model::fluid::initial::initial_fluid_state;
-use spillage_model::fluid::settings::{NumericsSection, PressureWallCondition};
+use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
-use spillage_model::mesh::{Mesh, Vec3};
+use spillage_model::mesh::{Mesh, Overlap, PatchKind, Vec3};
 use spillage_model::particles::Particle;
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
 
-use super::assembly::*;
+use super::buffers::StepBuffers;
+use super::diagnostics::step_diagnostics;
+use super::finish_step::{shift_time_levels, write_report, StepTotals};
 use super::interface::{push_overlaps, Frame};
-use super::layout::{rotor_velocity, solved_components, Adjacency, Boundary, Links, Rotor, NO_CELL};
-use crate::linear::amg::Amg;
+use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor};
+use super::momentum::{self, MomentumInputs, MomentumSolve};
+use super::pressure_corrector::{self, CorrectorFields, CorrectorInputs, PressureSolver};
+use super::settings::{FastSettings, SolveCounts};
+use super::starting_values::{boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels};
+use super::step_inputs::{Discretisation, StepConstants, StepSolution, TimeStep, VolumeFractions};
 use crate::linear::bicgstab::BiCgStab;
-use crate::linear::pcg::Pcg;
 use crate::linear::reduce::Reducer;
-use crate::linear::{par_update, Csr, Tolerance};
-
-/// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
-/// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FastSettings {
-    /// Pressure: AMG-preconditioned CG, normalised residual (OpenFOAM's definition).
-    pub pressure: Tolerance,
-    /// Momentum components: Jacobi-preconditioned BiCGStab.
-    pub momentum: Tolerance,
-}
-
-impl Default for FastSettings {
-    fn default() -> Self {
-        FastSettings {
-            pressure: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
-            momentum: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
-        }
-    }
-}
-
-/// Why a solve that used its whole iteration budget is not an answer (`None` when it
-/// converged): a silently unconverged solve would pass off a wrong state as a result.
-fn unconverged(stats: &crate::linear::SolveStats, tolerance: Tolerance) -> Option<String> {
-    (stats.iterations >= tolerance.max_iterations && stats.final_residual > tolerance.tolerance).then(|| {
-        format!(
-            "did not converge in {} iterations (normalised residual {:.3e} > {:.1e}); raise [numerics] max_linear_iterations or loosen linear_tolerance",
-            stats.iterations, stats.final_residual, tolerance.tolerance
-        )
-    })
-}
-
-impl FastSettings {
-    /// The controls a case file sets (`[numerics] linear_tolerance`, `max_linear_iterations`).
-    pub fn from_numerics(numerics: &spillage_model::fluid::settings::NumericsSection) -> Self {
-        let tolerance = Tolerance { tolerance: numerics.linear_tolerance, max_iterations: numerics.max_linear_iterations };
-        FastSettings { pressure: tolerance, momentum: tolerance }
-    }
-}
-
-/// Iteration counts of the last step (for benchmarks).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SolveCounts {
-    pub pressure_solves: usize,
-    pub pressure_iterations: usize,
-    pub momentum_iterations: usize,
-    /// Iterations of the first [`SolveCounts::PER_SOLVE`] pressure solves of the step, in order.
-    pub pressure_per_solve: [u16; SolveCounts::PER_SOLVE],
-    /// Wall-clock seconds of the step in the multigrid setup, the pressure solves and the
-    /// momentum solves (for the benchmark's breakdown; never used by the algorithm).
-    pub amg_setup_seconds: f64,
-    pub pressure_seconds: f64,
-    pub momentum_seconds: f64,
-    pub step_seconds: f64,
-}
-
-impl SolveCounts {
-    pub const PER_SOLVE: usize = 12;
-}
-
-#[derive(Default)]
-struct Work {
-    u: [Vec<f64>; 3],
-    u_old: [Vec<f64>; 3],
-    u_oo: [Vec<f64>; 3],
-    p: Vec<f64>,
-    p_start: Vec<f64>,
-    p_work: Vec<f64>,
-    p_b: Vec<f64>,
-    link_flux: Vec<f64>,
-    link_h: Vec<f64>,
-    /// Time-derivative flux correction per link divided by rAU_f (reference
-    /// `solver::ddt_flux_correction`).
-    ddt_corr: Vec<f64>,
-    boundary_flux: Vec<f64>,
-    /// Prescribed boundary flux (NaN where the pressure is fixed).
-    prescribed: Vec<f64>,
-    /// Fixed boundary velocity (NaN where none).
-    fixed_u: Vec<Vec3>,
-    boundary_u: Vec<Vec3>,
-    grad_u: Vec<[Vec3; 3]>,
-    grad_p: Vec<Vec3>,
-    upper: Vec<f64>,
-    lower: Vec<f64>,
-    link_src: Vec<Vec3>,
-    source: Vec<Vec3>,
-    mom: Csr,
-    rhs: [Vec<f64>; 3],
-    offdiag: Vec<f64>,
-    hbya: Vec<Vec3>,
-    rau: Vec<f64>,
-    pcoef: Vec<f64>,
-    ah: Vec<f64>,
-    pres: Csr,
-    prhs: Vec<f64>,
-    ax: Vec<f64>,
-    errors: Vec<f64>,
-    face_sum: Vec<f64>,
-    face_used: Vec<bool>,
-}
 
 /// The fast fluid solver, a fluid phase of the step driver ([`spillage_model::step::Coupled`]).
 pub struct FastFluid {
@@ -137,37 +50,35 @@ pub struct FastFluid {
     dt_old: f64,
     conditions: Conditions,
     numerics: NumericsSection,
+    /// Kinematic viscosity ν [m²/s] and density ρ [kg/m³].
     nu: f64,
     density: f64,
+    /// Kinematic body force (gravity + `[numerics] body_force`) [m/s²].
     body_force: Vec3,
     rotor: Option<Rotor>,
+    /// Axis frame of the sliding interfaces (the rotating zone's rotation).
     frame: Option<Frame>,
     /// Δt of the step being taken.
     dt: f64,
     settings: FastSettings,
+    /// Per cell: whether it belongs to the rotor zone.
     in_rotor: Vec<bool>,
     /// Internal faces of the rotor zone (their geometry is updated in place every step).
     moving_faces: Vec<usize>,
     links: Links,
     /// Overlap buffer of the sliding interfaces (reused every step).
-    overlaps: Vec<spillage_model::mesh::Overlap>,
+    overlaps: Vec<Overlap>,
     boundary: Boundary,
-    adj: Adjacency,
+    adjacency: Adjacency,
+    /// Velocity components solved (false along the normal of empty patches: 2-D meshes).
     solved: [bool; 3],
-    w: Work,
-    pcg: Pcg,
-    bicg: BiCgStab,
-    amg: Amg,
-    /// Momentum matrix assemblies so far, and the one the AMG hierarchy was last set up after:
-    /// the pressure matrix depends on the momentum diagonal (through rAU), the volume fractions
-    /// and the geometry, all fixed between two momentum assemblies, so its PISO and
-    /// non-orthogonal correctors reuse the hierarchy of the first.
-    momentum_assemblies: u64,
-    amg_after_assembly: Option<u64>,
-    red: Reducer,
+    buffers: StepBuffers,
+    momentum_solver: BiCgStab,
+    pressure_solver: PressureSolver,
+    reducer: Reducer,
     counts: SolveCounts,
-    /// Whether every link's non-orthogonal part is negligible ([`Self::links_orthogonal`]);
-    /// `None` after the link geometry changed.
+    /// Whether every link's non-orthogonal part is negligible ([`Links::all_orthogonal`]);
+    /// `None` before the first step's geometry.
     orthogonal: Option<bool>,
 }
 
@@ -178,6 +89,7 @@ fn unsupported(msg: impl Into<String>) -> SolverError {
 impl FastFluid {
     /// Sets up the solver for `case` on `mesh` (as `ReferenceFluid::new`: without a fluid state
     /// the fluid starts from the case's initial velocity, zero pressure, α_c = 1).
+    /// Missing parts of `state` (the fluid) are filled in.
     pub fn new(case: &Case, mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
         let fluid = case.fluid.as_ref().ok_or_else(|| unsupported("the case has no [fluid] section"))?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
@@ -201,7 +113,7 @@ impl FastFluid {
             }
             None => None,
         };
-        let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, spillage_model::mesh::PatchKind::Interface { .. }));
+        let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, PatchKind::Interface { .. }));
         if has_interface_patch && (mesh.interfaces.is_empty() || frame.is_none()) {
             return Err(unsupported("the mesh has interface patches but no cylindrical sliding-interface description (the fast solver needs the shared z layers)"));
         }
@@ -246,20 +158,17 @@ impl FastFluid {
             links,
             overlaps: Vec::new(),
             boundary,
-            adj: Adjacency::default(),
+            adjacency: Adjacency::default(),
             solved,
-            w: Work::default(),
-            pcg: Pcg::default(),
-            bicg: BiCgStab::default(),
-            amg: Amg::default(),
-            momentum_assemblies: 0,
-            amg_after_assembly: None,
-            red: Reducer::default(),
+            buffers: StepBuffers::default(),
+            momentum_solver: BiCgStab::default(),
+            pressure_solver: PressureSolver::default(),
+            reducer: Reducer::default(),
             counts: SolveCounts::default(),
             orthogonal: None,
         };
         solver.rebuild_overlaps();
-        solver.size_work();
+        solver.resize_buffers();
         Ok(solver)
     }
 
@@ -275,7 +184,7 @@ impl FastFluid {
 
     /// (rows, off-diagonal entries, colours) of the pressure multigrid levels (diagnostics).
     pub fn pressure_levels(&self) -> Vec<(usize, usize, usize)> {
-        self.amg.level_sizes()
+        self.pressure_solver.level_sizes()
     }
 
     /// Iteration counts of the last step.
@@ -292,62 +201,33 @@ impl FastFluid {
                 push_overlaps(&self.mesh, interface, frame, angle, self.rotor.as_ref(), &mut self.overlaps, &mut self.links);
             }
         }
-        self.adj.rebuild(self.mesh.n_cells(), &self.links);
+        self.adjacency.rebuild(self.mesh.n_cells(), &self.links);
     }
 
-    fn size_work(&mut self) {
-        let n = self.mesh.n_cells();
-        let nb = self.boundary.len();
-        let nl = self.links.len();
-        let w = &mut self.w;
-        for j in 0..3 {
-            w.u[j].resize(n, 0.0);
-            w.u_old[j].resize(n, 0.0);
-            w.u_oo[j].resize(n, 0.0);
-            w.rhs[j].resize(n, 0.0);
+    fn resize_buffers(&mut self) {
+        self.buffers.resize(self.mesh.n_cells(), self.boundary.len(), self.links.len(), self.mesh.n_faces(), &self.adjacency);
+    }
+
+    /// Stage 2: the link geometry of the new position. Overlap links rebuilt (every step with a
+    /// turning rotor), orthogonality re-measured and the neighbours across boundary faces
+    /// re-found whenever links may have changed, buffers sized for the link count.
+    fn update_geometry(&mut self) {
+        if self.frame.is_some() && (self.rotor.is_some() || self.links.len() == self.links.n_internal) {
+            self.rebuild_overlaps();
         }
-        for v in [&mut w.p, &mut w.p_start, &mut w.p_work, &mut w.offdiag, &mut w.rau, &mut w.prhs, &mut w.ax, &mut w.errors] {
-            v.resize(n, 0.0);
+        // link geometry changes on the first step and whenever the rotor or the overlaps move
+        let geometry_changed = self.orthogonal.is_none() || self.rotor.is_some() || self.frame.is_some();
+        if geometry_changed {
+            self.orthogonal = Some(self.links.all_orthogonal());
         }
-        for v in [&mut w.p_b, &mut w.boundary_flux, &mut w.prescribed] {
-            v.resize(nb, 0.0);
-        }
-        for v in [&mut w.fixed_u, &mut w.boundary_u] {
-            v.resize(nb, Vec3::zeros());
-        }
-        for v in [&mut w.link_flux, &mut w.link_h, &mut w.ddt_corr, &mut w.upper, &mut w.lower, &mut w.pcoef, &mut w.ah] {
-            v.resize(nl, 0.0);
-        }
-        w.link_src.resize(nl, Vec3::zeros());
-        w.grad_u.resize(n, [Vec3::zeros(); 3]);
-        w.grad_p.resize(n, Vec3::zeros());
-        w.source.resize(n, Vec3::zeros());
-        w.hbya.resize(n, Vec3::zeros());
-        w.face_sum.resize(self.mesh.n_faces(), 0.0);
-        w.face_used.resize(self.mesh.n_faces(), false);
-        // matrix structure = adjacency
-        for m in [&mut w.mom, &mut w.pres] {
-            m.n = n;
-            m.row_start.clone_from(&self.adj.row_start);
-            m.col.clone_from(&self.adj.col);
-            m.val.resize(self.adj.col.len(), 0.0);
-            m.diag.resize(n, 0.0);
+        self.resize_buffers();
+        if geometry_changed {
+            self.boundary.update_across(&self.links, &self.adjacency);
         }
     }
 
-    /// True when every link's non-orthogonal area part (T4.26 over-relaxed split) is below
-    /// 1e-12 of its area: rounding of area − δ·|A|²/(δ·A) on an orthogonal face, not geometry.
-    /// The explicit non-orthogonal flux term is then below 1e-12 of the gradient flux, so a
-    /// further non-orthogonal corrector assembles the same pressure equation to that relative
-    /// level, starts converged and leaves the pressure as it is (measured on the lid-driven
-    /// cavity: 0 iterations in every such solve); [`Self::correct`] skips those passes.
-    fn links_orthogonal(&self) -> bool {
-        let links = &self.links;
-        (0..links.len()).all(|l| links.non_orthogonal[l].norm_squared() <= 1e-24 * links.area[l].norm_squared())
-    }
-
-    /// Turns the rotor zone to the pose's angle (from its reference geometry), takes the pose's
-    /// motion and updates the moving link and boundary geometry in place.
+    /// Stage 1: turns the rotor zone to the pose's angle (from its reference geometry), takes
+    /// the pose's motion and moves the zone's faces and boundary faces in place.
     fn turn_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
         if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
             r.axis = pose.axis;
@@ -369,108 +249,103 @@ impl FastFluid {
         result
     }
 
+    /// One time step, steps 2–5 of the algorithm (module doc of `spillage_reference::fluid`;
+    /// step 1, the rotor, is [`FastFluid::turn_rotor`], called by [`FluidPhase::advance`]).
     fn advance_inner(&mut self, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
-        let dt = self.dt;
-        let tc = self.time_coefficients;
-        // step 2: the rotor at the step's pose (turned by `FluidPhase::advance`), the overlaps rebuilt
-        if self.frame.is_some() && (self.rotor.is_some() || self.links.len() == self.links.n_internal) {
-            self.rebuild_overlaps();
-        }
-        // link geometry changes on the first step and whenever the rotor or the overlaps move
-        let geometry_changed = self.orthogonal.is_none() || self.rotor.is_some() || self.frame.is_some();
-        if geometry_changed {
-            self.orthogonal = Some(self.links_orthogonal());
-        }
-        self.size_work();
-        if geometry_changed {
-            self.boundary.update_across(&self.links, &self.adj);
-        }
+        let time = TimeStep { dt: self.dt, coefficients: self.time_coefficients };
 
-        let n = self.mesh.n_cells();
-        let nb = self.boundary.len();
-        let nl = self.links.len();
-        let n_internal_faces = self.mesh.n_internal_faces;
-        {
-            // step 3: starting values
-            let fluid = &self.fluid;
-            let w = &mut self.w;
-            for c in 0..n {
-                for j in 0..3 {
-                    w.u[j][c] = fluid.velocity[c][j];
-                    w.u_old[j][c] = fluid.velocity[c][j];
-                    w.u_oo[j][c] = fluid.velocity_old[c][j];
-                }
-            }
-            w.p.copy_from_slice(&fluid.pressure);
-            let links = &self.links;
-            let moved = &self.in_rotor;
-            let rotor_moves = self.rotor.is_some();
-            let u = &w.u;
-            let o = Out::of(&mut w.link_flux);
-            par_for(nl, |l| {
-                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
-                let v = if l < links.n_internal && !(rotor_moves && moved[p]) {
-                    fluid.flux[l]
-                } else {
-                    let wt = links.weight[l];
-                    (vec_of(u, p) * wt + vec_of(u, q) * (1.0 - wt)).dot(&links.area[l])
-                };
-                unsafe { o.set(l, v) };
-            });
-            // time-derivative flux correction (reference `solver::ddt_flux_correction`): zero
-            // on moved faces and overlap links, whose geometry changed since φᵒ was stored
-            let (_, c1, c2) = (tc[0], tc[1], tc[2]);
-            let enabled = self.numerics.ddt_flux_correction;
-            let (alpha_o, alpha_oo) = (&fluid.alpha_old, &fluid.alpha_old_old);
-            let (u_o, u_oo) = (&w.u_old, &w.u_oo);
-            let o = Out::of(&mut w.ddt_corr);
-            par_for(nl, |l| {
-                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
-                let v = if enabled && l < links.n_internal && !(rotor_moves && moved[p]) {
-                    let wt = links.weight[l];
-                    let old = links.interpolate(l, alpha_o[p], alpha_o[q]) * fluid.flux[l]
-                        - (vec_of(u_o, p) * alpha_o[p] * wt + vec_of(u_o, q) * alpha_o[q] * (1.0 - wt)).dot(&links.area[l]);
-                    let old_old = links.interpolate(l, alpha_oo[p], alpha_oo[q]) * fluid.flux_old[l]
-                        - (vec_of(u_oo, p) * alpha_oo[p] * wt + vec_of(u_oo, q) * alpha_oo[q] * (1.0 - wt)).dot(&links.area[l]);
-                    -(c1 * old + c2 * old_old) / dt
-                } else {
-                    0.0
-                };
-                unsafe { o.set(l, v) };
-            });
-            let bnd = &self.boundary;
-            for b in 0..nb {
-                let cond = bnd.condition[b] as usize;
-                let face = bnd.face[b] as usize;
-                w.p_b[b] = fluid.boundary_pressure[face - n_internal_faces];
-                w.fixed_u[b] = self.conditions.fixed_velocity(cond, &bnd.centre[b], rotor_velocity(self.rotor.as_ref())).unwrap_or(Vec3::repeat(f64::NAN));
-                let pres = self.conditions.prescribed_flux(cond, &bnd.centre[b], &bnd.area[b], bnd.mesh_flux[b], rotor_velocity(self.rotor.as_ref()));
-                w.prescribed[b] = pres.unwrap_or(f64::NAN);
-                w.boundary_flux[b] = pres.unwrap_or(fluid.flux[face]);
-            }
-        }
+        // 2. geometry of the new position
+        self.update_geometry();
 
+        // 3. starting values
+        let fluid = &self.fluid;
+        let b = &mut self.buffers;
+        let moved = MovedCells { rotor_turns: self.rotor.is_some(), in_rotor: &self.in_rotor };
+        time_levels_from_state(fluid, &mut b.velocity, &mut b.velocity_old, &mut b.velocity_old_old, &mut b.pressure);
+        starting_link_fluxes(&self.links, moved, &fluid.flux, &b.velocity, &mut b.link_flux);
+        let old = OldLevels {
+            velocity_old: &b.velocity_old,
+            velocity_old_old: &b.velocity_old_old,
+            alpha_old: &fluid.alpha_old,
+            alpha_old_old: &fluid.alpha_old_old,
+            flux_old: &fluid.flux,
+            flux_old_old: &fluid.flux_old,
+        };
+        ddt_flux_corrections(&self.links, moved, self.numerics.ddt_flux_correction, time, old, &mut b.ddt_flux_correction);
+        let boundary_start = BoundaryStart {
+            boundary_pressure: &mut b.boundary_pressure,
+            fixed_velocity: &mut b.fixed_boundary_velocity,
+            prescribed_flux: &mut b.prescribed_boundary_flux,
+            boundary_flux: &mut b.boundary_flux,
+        };
+        boundary_starting_values(&self.boundary, &self.conditions, self.rotor.as_ref(), fluid, self.mesh.n_internal_faces, boundary_start);
+
+        // 4. outer (SIMPLE) loop
+        let disc = Discretisation {
+            links: &self.links,
+            adjacency: &self.adjacency,
+            boundary: &self.boundary,
+            cell_volumes: &self.mesh.cell_volumes,
+            conditions: &self.conditions,
+            solved: self.solved,
+        };
+        let alpha = VolumeFractions::of(fluid);
+        let step = StepConstants { disc, time, alpha, numerics: &self.numerics };
         self.counts = SolveCounts::default();
         let mut outer_iterations = 0;
         let mut last_residual = f64::NAN;
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
-            self.boundary_velocities();
-            {
-                let w = &mut self.w;
-                vector_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.u, &w.boundary_u, &mut w.grad_u);
-            }
-            self.assemble_momentum(tc);
-            self.predictor()?;
+            // a. boundary velocities and ∇u*
+            momentum::boundary_velocities(&disc, &b.fixed_boundary_velocity, &b.velocity, &mut b.boundary_velocity);
+            disc.vector_gradient(&b.velocity, &b.boundary_velocity, &mut b.velocity_gradient);
+            // b. momentum matrix
+            let momentum_inputs = MomentumInputs {
+                step,
+                nu: self.nu,
+                body_force: self.body_force,
+                velocity: &b.velocity,
+                velocity_old: &b.velocity_old,
+                velocity_old_old: &b.velocity_old_old,
+                velocity_gradient: &b.velocity_gradient,
+                boundary_velocity: &b.boundary_velocity,
+                link_flux: &b.link_flux,
+                boundary_flux: &b.boundary_flux,
+            };
+            momentum::assemble(&momentum_inputs, &mut b.momentum_links, &mut b.momentum);
+            self.pressure_solver.momentum_assembled();
+            // c. predictor M u = b − V∇P*
+            disc.scalar_gradient(&b.pressure, &b.boundary_pressure, &mut b.pressure_gradient);
+            let solve = MomentumSolve { solver: &mut self.momentum_solver, tolerance: self.settings.momentum, counts: &mut self.counts };
+            momentum::predict(&disc, &b.momentum, &b.pressure_gradient, &mut b.momentum_rhs, &mut b.velocity, solve)?;
+            // d. PISO correctors
+            let corrector_inputs = CorrectorInputs {
+                step,
+                orthogonal: self.orthogonal == Some(true),
+                momentum: &b.momentum,
+                ddt_flux_correction: &b.ddt_flux_correction,
+                prescribed_boundary_flux: &b.prescribed_boundary_flux,
+                velocity_gradient: &b.velocity_gradient,
+                tolerance: self.settings.pressure,
+            };
             let mut first_residual = f64::NAN;
             for corrector in 0..self.numerics.piso_correctors {
-                let residual = self.correct(tc)?;
+                let fields = CorrectorFields {
+                    velocity: &mut b.velocity,
+                    pressure: &mut b.pressure,
+                    boundary_pressure: &mut b.boundary_pressure,
+                    pressure_gradient: &mut b.pressure_gradient,
+                    link_flux: &mut b.link_flux,
+                    boundary_flux: &mut b.boundary_flux,
+                };
+                let residual = pressure_corrector::correct(&corrector_inputs, fields, &mut b.corrector, &mut self.pressure_solver, &mut self.counts)?;
                 if corrector == 0 {
                     first_residual = residual;
                 }
             }
+            // e. convergence
             last_residual = first_residual;
-            let finite = self.w.u.iter().all(|c| c.iter().all(|x| x.is_finite()));
+            let finite = b.velocity.iter().all(|c| c.iter().all(|x| x.is_finite()));
             if !first_residual.is_finite() || !finite {
                 return Err(SolverError::Diverged { step: self.step_number, time: self.step_time_end, what: "non-finite velocity or pressure".into() });
             }
@@ -478,462 +353,17 @@ impl FastFluid {
                 break;
             }
         }
-        let courant_max = self.finish_step(tc, outer_iterations, last_residual, report);
-        Ok(FluidStepOutcome { courant_max })
-    }
 
-    /// Boundary velocity of every boundary face from the latest cell velocity.
-    fn boundary_velocities(&mut self) {
-        let w = &mut self.w;
-        let bnd = &self.boundary;
-        for b in 0..bnd.len() {
-            let c = bnd.cell[b] as usize;
-            let uc = vec_of(&w.u, c);
-            w.boundary_u[b] = if !w.fixed_u[b].x.is_nan() {
-                w.fixed_u[b]
-            } else if let Condition::Symmetry = self.conditions.conditions[bnd.condition[b] as usize] {
-                let nrm = bnd.area[b].normalize();
-                uc - nrm * uc.dot(&nrm)
-            } else {
-                uc
-            };
-        }
-    }
-
-    fn assemble_momentum(&mut self, tc: [f64; 3]) {
-        self.momentum_assemblies += 1;
-        let [c0, c1, c2] = tc;
-        let n = self.mesh.n_cells();
-        let fluid = &self.fluid;
-        let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
-        let links = &self.links;
-        let numerics = &self.numerics;
-        let nu = self.nu;
-        let w = &mut self.w;
-        {
-            let (u, grad) = (&w.u, &w.grad_u);
-            let link_flux = &w.link_flux;
-            let (ou, ol, os) = (Out::of(&mut w.upper), Out::of(&mut w.lower), Out::of(&mut w.link_src));
-            par_for(links.len(), |l| {
-                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
-                let alpha_f = links.interpolate(l, alpha[p], alpha[q]);
-                let f = link_flux[l] - links.mesh_flux[l];
-                let lambda = convection_weight(numerics.convection, numerics.linear_fraction, links.weight[l], &links.delta[l], f, vec_of(u, p), vec_of(u, q), |owner_upwind| {
-                    grad[if owner_upwind { p } else { q }]
-                });
-                let gamma = nu * alpha_f;
-                let d = gamma * links.laplacian[l];
-                let grad_f = interpolate_tensor(links.weight[l], &grad[p], &grad[q]);
-                let src = directional(&grad_f, &links.non_orthogonal[l]) * gamma + explicit_stress(&grad_f, &links.area[l]) * gamma;
-                unsafe {
-                    ou.set(l, alpha_f * f * (1.0 - lambda) - d);
-                    ol.set(l, -alpha_f * f * lambda - d);
-                    os.set(l, src);
-                }
-            });
-        }
-        let vol = &self.mesh.cell_volumes;
-        let adj = &self.adj;
-        let bnd = &self.boundary;
-        let conditions = &self.conditions;
-        let (dt, body) = (self.dt, self.body_force);
-        let relax = numerics.relax_velocity;
-        let (upper, lower, link_src) = (&w.upper, &w.lower, &w.link_src);
-        let (u, grad, bflux, bu) = (&w.u, &w.grad_u, &w.boundary_flux, &w.boundary_u);
-        let (od, os, ov) = (Out::of(&mut w.mom.diag), Out::of(&mut w.source), Out::of(&mut w.mom.val));
-        par_for(n, |c| {
-            let v = vol[c];
-            let mut diag = c0 * alpha[c] * v / dt;
-            let mut src = -(vec_of(&w.u_old, c) * (c1 * alpha_o[c]) + vec_of(&w.u_oo, c) * (c2 * alpha_oo[c])) * (v / dt);
-            src += body * v;
-            for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
-                let e = adj.entry[k] as usize;
-                let l = e >> 1;
-                if e & 1 == 1 {
-                    diag -= lower[l];
-                    src += link_src[l];
-                    unsafe { ov.set(k, upper[l]) };
-                } else {
-                    diag -= upper[l];
-                    src -= link_src[l];
-                    unsafe { ov.set(k, lower[l]) };
-                }
-            }
-            for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
-                let b = b as usize;
-                let alpha_p = alpha[c];
-                let f = bflux[b] - bnd.mesh_flux[b];
-                let gamma = nu * alpha_p;
-                let d = gamma * bnd.area[b].norm() / bnd.normal_distance[b];
-                match &conditions.conditions[bnd.condition[b] as usize] {
-                    Condition::FixedVelocity { .. } => {
-                        src -= bu[b] * (alpha_p * f);
-                        diag += d;
-                        src += bu[b] * d;
-                    }
-                    Condition::FixedPressure { .. } => diag += alpha_p * f,
-                    Condition::Symmetry => {
-                        diag += d;
-                        src += bu[b] * d;
-                    }
-                }
-                src += explicit_stress(&grad[c], &bnd.area[b]) * gamma;
-            }
-            let relaxed = diag / relax;
-            src += vec_of(u, c) * (relaxed - diag);
-            unsafe {
-                od.set(c, relaxed);
-                os.set(c, src);
-            }
-        });
-    }
-
-    /// Momentum predictor M u = b − V∇P* for every solved component.
-    fn predictor(&mut self) -> Result<(), SolverError> {
-        let w = &mut self.w;
-        scalar_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p, &w.p_b, &mut w.grad_p);
-        for j in 0..3 {
-            if !self.solved[j] {
-                continue;
-            }
-            let (src, gp, vol) = (&w.source, &w.grad_p, &self.mesh.cell_volumes);
-            par_update(&mut w.rhs[j][..], |c, r| *r = src[c][j] - vol[c] * gp[c][j]);
-            let clock = std::time::Instant::now();
-            let stats = self.bicg.solve(&w.mom, &w.rhs[j], &mut w.u[j], self.settings.momentum);
-            self.counts.momentum_seconds += clock.elapsed().as_secs_f64();
-            self.counts.momentum_iterations += stats.iterations;
-            if !stats.final_residual.is_finite() {
-                return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): residual not finite")));
-            }
-            if let Some(message) = unconverged(&stats, self.settings.momentum) {
-                return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): {message}")));
-            }
-        }
-        Ok(())
-    }
-
-    /// Boundary pressures for cell pressure `p` (reference `pressure::boundary_pressures`).
-    fn boundary_pressures(&self, p: &[f64], out: &mut [f64]) {
-        let bnd = &self.boundary;
-        let w = &self.w;
-        for b in 0..bnd.len() {
-            let c = bnd.cell[b] as usize;
-            out[b] = match &self.conditions.conditions[bnd.condition[b] as usize] {
-                Condition::FixedPressure { pressure } => *pressure,
-                _ if !w.prescribed[b].is_nan() => {
-                    let from_cell = |c: usize| (w.hbya[c].dot(&bnd.area[b]) - w.prescribed[b]) / (w.rau[c] * bnd.area[b].norm());
-                    let g = match self.numerics.pressure_wall {
-                        PressureWallCondition::ZeroGradient => 0.0,
-                        PressureWallCondition::FixedFluxLinear if bnd.across[b] != NO_CELL => {
-                            let (at_cell, at_across) = (from_cell(c), from_cell(bnd.across[b] as usize));
-                            at_cell + bnd.across_ratio[b] * (at_cell - at_across)
-                        }
-                        PressureWallCondition::FixedFluxExtrapolated | PressureWallCondition::FixedFluxLinear => from_cell(c),
-                    };
-                    p[c] + bnd.normal_distance[b] * g
-                }
-                _ => p[c],
-            };
-        }
-    }
-
-    /// One PISO corrector (reference `pressure::correct`); returns the initial residual.
-    fn correct(&mut self, tc: [f64; 3]) -> Result<f64, SolverError> {
-        let n = self.mesh.n_cells();
-        let nb = self.boundary.len();
-        let [c0, c1, c2] = tc;
-        let dt = self.dt;
-        // HbyA and rAU from the latest velocity
-        {
-            let w = &mut self.w;
-            for j in 0..3 {
-                if !self.solved[j] {
-                    continue;
-                }
-                w.mom.multiply_off_diagonal(&w.u[j], &mut w.offdiag);
-                let (src, off, diag) = (&w.source, &w.offdiag, &w.mom.diag);
-                let o = Out::of(&mut w.hbya);
-                par_for(n, |c| unsafe { (&mut *o.ptr(c))[j] = (src[c][j] - off[c]) / diag[c] });
-            }
-            for j in 0..3 {
-                if !self.solved[j] {
-                    w.hbya.par_iter_mut().for_each(|h| h[j] = 0.0);
-                }
-            }
-            let (vol, diag) = (&self.mesh.cell_volumes, &w.mom.diag);
-            par_update(&mut w.rau[..], |c, r| *r = vol[c] / diag[c]);
-            for b in 0..nb {
-                if !w.prescribed[b].is_nan() {
-                    w.boundary_flux[b] = w.prescribed[b];
-                }
-            }
-            w.p_start.copy_from_slice(&w.p);
-            w.p_work.copy_from_slice(&w.p);
-        }
-        let fluid = &self.fluid;
-        let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
-        let mut initial_residual = 0.0;
-        let mut p_b = std::mem::take(&mut self.w.p_b);
-        let non_orthogonal_correctors = if self.orthogonal == Some(true) { 0 } else { self.numerics.non_orthogonal_correctors };
-        for corrector in 0..=non_orthogonal_correctors {
-            // the pressure gradient enters only the explicit non-orthogonal flux term, below
-            // 1e-12 of the gradient flux on orthogonal links ([`Self::links_orthogonal`]):
-            // there it is dropped instead of computed (one gradient per corrector less)
-            let orthogonal = self.orthogonal == Some(true);
-            if !orthogonal {
-                self.boundary_pressures(&self.w.p_work, &mut p_b);
-            }
-            let links = &self.links;
-            let w = &mut self.w;
-            if !orthogonal {
-                scalar_gradient(links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p_work, &p_b, &mut w.grad_p);
-            }
-            {
-                let (rau, hbya, gp, ddt_corr, gu) = (&w.rau, &w.hbya, &w.grad_p, &w.ddt_corr, &w.grad_u);
-                let (oh, oc, oa) = (Out::of(&mut w.link_h), Out::of(&mut w.pcoef), Out::of(&mut w.ah));
-                par_for(links.len(), |l| {
-                    let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
-                    let wt = links.weight[l];
-                    let alpha_f = wt * alpha[p] + (1.0 - wt) * alpha[q];
-                    let rau_f = wt * rau[p] + (1.0 - wt) * rau[q];
-                    let mut hbya_f = hbya[p] * wt + hbya[q] * (1.0 - wt);
-                    if l >= links.n_internal {
-                        // overlap link: skewness correction (k·∇u)_f, as the reference's `pressure` (issue 12)
-                        hbya_f += directional(&interpolate_tensor(wt, &gu[p], &gu[q]), &links.skew[l - links.n_internal]);
-                    }
-                    let non_orthogonal_flux = if orthogonal {
-                        0.0
-                    } else {
-                        let grad_f = gp[p] * wt + gp[q] * (1.0 - wt);
-                        rau_f * grad_f.dot(&links.non_orthogonal[l])
-                    };
-                    let h_flux = hbya_f.dot(&links.area[l]) - non_orthogonal_flux + rau_f * ddt_corr[l];
-                    unsafe {
-                        oh.set(l, h_flux);
-                        oc.set(l, alpha_f * rau_f * links.laplacian[l]);
-                        oa.set(l, alpha_f * h_flux);
-                    }
-                });
-            }
-            {
-                let (adj, bnd, conditions, vol) = (&self.adj, &self.boundary, &self.conditions, &self.mesh.cell_volumes);
-                let (pcoef, ah, rau, hbya, prescribed) = (&w.pcoef, &w.ah, &w.rau, &w.hbya, &w.prescribed);
-                let (od, ov, orhs) = (Out::of(&mut w.pres.diag), Out::of(&mut w.pres.val), Out::of(&mut w.prhs));
-                par_for(n, |c| {
-                    let mut diag = 0.0;
-                    let mut rhs = 0.0;
-                    for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
-                        let e = adj.entry[k] as usize;
-                        let l = e >> 1;
-                        diag += pcoef[l];
-                        unsafe { ov.set(k, -pcoef[l]) };
-                        if e & 1 == 1 {
-                            rhs -= ah[l];
-                        } else {
-                            rhs += ah[l];
-                        }
-                    }
-                    for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
-                        let b = b as usize;
-                        match &conditions.conditions[bnd.condition[b] as usize] {
-                            Condition::FixedPressure { pressure } => {
-                                let k = alpha[c] * rau[c] * bnd.area[b].norm() / bnd.normal_distance[b];
-                                diag += k;
-                                rhs += k * pressure - alpha[c] * hbya[c].dot(&bnd.area[b]);
-                            }
-                            _ if !prescribed[b].is_nan() => rhs -= alpha[c] * prescribed[b],
-                            _ => {}
-                        }
-                    }
-                    rhs -= (c0 * alpha[c] + c1 * alpha_o[c] + c2 * alpha_oo[c]) * vol[c] / dt;
-                    unsafe {
-                        od.set(c, diag);
-                        orhs.set(c, rhs);
-                    }
-                });
-            }
-            if !self.conditions.has_fixed_pressure {
-                w.pres.diag[0] *= 2.0;
-            }
-            // once per momentum assembly (the matrix is the same until the next one); the
-            // aggregation is rebuilt only when the sparsity pattern changed (the overlap links
-            // moved), otherwise only the hierarchy's values follow the new matrix
-            if self.amg_after_assembly != Some(self.momentum_assemblies) {
-                let clock = std::time::Instant::now();
-                self.amg.setup(&w.pres);
-                self.amg_after_assembly = Some(self.momentum_assemblies);
-                self.counts.amg_setup_seconds += clock.elapsed().as_secs_f64();
-            }
-            let clock = std::time::Instant::now();
-            let stats = self.pcg.solve(&w.pres, &w.prhs, &mut w.p_work, &mut self.amg, self.settings.pressure);
-            self.counts.pressure_seconds += clock.elapsed().as_secs_f64();
-            if let Some(slot) = self.counts.pressure_per_solve.get_mut(self.counts.pressure_solves) {
-                *slot = stats.iterations.min(u16::MAX as usize) as u16;
-            }
-            self.counts.pressure_solves += 1;
-            self.counts.pressure_iterations += stats.iterations;
-            if corrector == 0 {
-                // CG starts from p_work = p_start, so its initial residual is this corrector's
-                initial_residual = stats.initial_residual;
-            }
-            if !stats.final_residual.is_finite() {
-                self.w.p_b = p_b;
-                return Err(SolverError::LinearSolve("pressure equation: residual not finite".into()));
-            }
-            if let Some(message) = unconverged(&stats, self.settings.pressure) {
-                self.w.p_b = p_b;
-                return Err(SolverError::LinearSolve(format!("pressure equation: {message}")));
-            }
-        }
-        // conservative fluxes from the final pressure (T4.28)
-        {
-            let links = &self.links;
-            let w = &mut self.w;
-            let (rau, pw, lh) = (&w.rau, &w.p_work, &w.link_h);
-            par_update(&mut w.link_flux[..], |l, f| {
-                let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
-                let rau_f = links.interpolate(l, rau[p], rau[q]);
-                *f = lh[l] - rau_f * links.laplacian[l] * (pw[q] - pw[p]);
-            });
-            let bnd = &self.boundary;
-            for b in 0..nb {
-                if let Condition::FixedPressure { pressure } = &self.conditions.conditions[bnd.condition[b] as usize] {
-                    let c = bnd.cell[b] as usize;
-                    w.boundary_flux[b] = w.hbya[c].dot(&bnd.area[b]) - w.rau[c] * bnd.area[b].norm() / bnd.normal_distance[b] * (pressure - w.p_work[c]);
-                }
-            }
-            let relax = self.numerics.relax_pressure;
-            let (ps, pw) = (&w.p_start, &w.p_work);
-            par_update(&mut w.p[..], |c, p| *p = ps[c] + relax * (pw[c] - ps[c]));
-        }
-        self.boundary_pressures(&self.w.p, &mut p_b);
-        let w = &mut self.w;
-        w.p_b = p_b;
-        scalar_gradient(&self.links, &self.adj, &self.boundary, &self.mesh.cell_volumes, &w.p, &w.p_b, &mut w.grad_p);
-        for j in 0..3 {
-            let (h, r, g) = (&w.hbya, &w.rau, &w.grad_p);
-            let solved = self.solved[j];
-            par_update(&mut w.u[j][..], |c, u| *u = if solved { h[c][j] - r[c] * g[c][j] } else { 0.0 });
-        }
-        Ok(initial_residual)
-    }
-
-    /// Diagnostics and step 5 (shift the time levels).
-    fn finish_step(&mut self, tc: [f64; 3], outer_iterations: usize, last_residual: f64, report: &mut StepReport) -> f64 {
-        let [c0, c1, c2] = tc;
-        let dt = self.dt;
-        let n = self.mesh.n_cells();
-        let links = &self.links;
-        let bnd = &self.boundary;
-        let adj = &self.adj;
-        let vol = &self.mesh.cell_volumes;
-        let w = &mut self.w;
+        // 5. diagnostics (before the time levels shift: ∂α/∂t uses this step's levels), state update, report
+        let solution = StepSolution { velocity: &b.velocity, pressure: &b.pressure, boundary_pressure: &b.boundary_pressure, link_flux: &b.link_flux, boundary_flux: &b.boundary_flux };
+        let diagnostics = step_diagnostics(&disc, time, alpha, solution, &mut b.diagnostics, &mut self.reducer);
         let fluid = &mut self.fluid;
-        let (local, global, courant, kinetic);
-        {
-            let (alpha, alpha_o, alpha_oo) = (&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old);
-            let (lf, bf) = (&w.link_flux, &w.boundary_flux);
-            let o = Out::of(&mut w.errors);
-            let oc = Out::of(&mut w.ax);
-            par_for(n, |c| {
-                let mut e = (c0 * alpha[c] + c1 * alpha_o[c] + c2 * alpha_oo[c]) * vol[c] / dt;
-                let mut s = 0.0;
-                for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
-                    let ent = adj.entry[k] as usize;
-                    let l = ent >> 1;
-                    let alpha_f = links.interpolate(l, alpha[links.owner[l] as usize], alpha[links.neighbour[l] as usize]);
-                    if ent & 1 == 1 {
-                        e += alpha_f * lf[l];
-                    } else {
-                        e -= alpha_f * lf[l];
-                    }
-                    s += (lf[l] - links.mesh_flux[l]).abs();
-                }
-                for &b in &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize] {
-                    let b = b as usize;
-                    e += alpha[c] * bf[b];
-                    s += (bf[b] - bnd.mesh_flux[b]).abs();
-                }
-                unsafe {
-                    o.set(c, e);
-                    oc.set(c, 0.5 * dt * s / vol[c]);
-                }
-            });
-            let (errors, cour, u) = (&w.errors, &w.ax, &w.u);
-            let [sa, sg] = self.red.sum2(n, |c| [errors[c].abs(), errors[c]]);
-            local = dt * sa;
-            global = dt * sg;
-            courant = self.red.max(n, |c| cour[c]).max(0.0);
-            kinetic = self.red.sum(n, |c| 0.5 * alpha[c] * (u[0][c] * u[0][c] + u[1][c] * u[1][c] + u[2][c] * u[2][c]) * vol[c]);
-        }
-        // interface imbalance and the face fluxes of the state
-        let nf = self.mesh.n_faces();
-        let mut throughput = 0.0;
-        for k in 0..links.len() - links.n_internal {
-            let l = links.n_internal + k;
-            let (r, s) = (links.rotor_face[k] as usize, links.stator_face[k] as usize);
-            w.face_sum[r] = 0.0;
-            w.face_sum[s] = 0.0;
-            let _ = l;
-        }
-        for k in 0..links.len() - links.n_internal {
-            let l = links.n_internal + k;
-            let (r, s) = (links.rotor_face[k] as usize, links.stator_face[k] as usize);
-            w.face_sum[r] += w.link_flux[l];
-            w.face_sum[s] -= w.link_flux[l];
-            w.face_used[r] = true;
-            w.face_used[s] = true;
-            throughput += w.link_flux[l].abs();
-        }
-        let imbalance = if throughput == 0.0 {
-            0.0
-        } else {
-            let mut net = 0.0;
-            for f in 0..nf {
-                if w.face_used[f] {
-                    net += w.face_sum[f];
-                }
-            }
-            net.abs() / throughput
-        };
-
-        for c in 0..n {
-            fluid.velocity_old[c] = fluid.velocity[c];
-            fluid.velocity[c] = [w.u[0][c], w.u[1][c], w.u[2][c]];
-        }
-        fluid.pressure.copy_from_slice(&w.p);
-        std::mem::swap(&mut fluid.flux, &mut fluid.flux_old);
-        fluid.flux.fill(0.0);
-        fluid.flux[..links.n_internal].copy_from_slice(&w.link_flux[..links.n_internal]);
-        for f in 0..nf {
-            if w.face_used[f] {
-                fluid.flux[f] = w.face_sum[f];
-                w.face_used[f] = false;
-            }
-        }
-        let nif = self.mesh.n_internal_faces;
-        for b in 0..bnd.len() {
-            let face = bnd.face[b] as usize;
-            fluid.flux[face] = w.boundary_flux[b];
-            fluid.boundary_pressure[face - nif] = w.p_b[b];
-        }
-        fluid.alpha_old_old.copy_from_slice(&fluid.alpha_old);
-        fluid.alpha_old.copy_from_slice(&fluid.alpha);
-        fluid.cumulative_continuity_error += global;
-        let cumulative = fluid.cumulative_continuity_error;
-        self.dt_old = dt;
-        // appended: a report reused across steps keeps its storage
-        report.values.extend_from_slice(&[
-            ("courant_max", courant),
-            ("continuity_local", local),
-            ("continuity_global", global),
-            ("continuity_cumulative", cumulative),
-            ("kinetic_energy", kinetic),
-            ("outer_iterations", outer_iterations as f64),
-            ("p_initial_residual", last_residual),
-            ("interface_imbalance", imbalance),
-        ]);
-        courant
+        shift_time_levels(fluid, &self.links, &self.boundary, self.mesh.n_internal_faces, solution, &mut b.diagnostics, diagnostics.continuity_global);
+        let continuity_cumulative = fluid.cumulative_continuity_error;
+        self.dt_old = time.dt;
+        let totals = StepTotals { continuity_cumulative, outer_iterations, p_initial_residual: last_residual };
+        write_report(report, &diagnostics, &totals);
+        Ok(FluidStepOutcome { courant_max: diagnostics.courant_max })
     }
 }
 
@@ -959,6 +389,7 @@ impl FluidPhase for FastFluid {
         self.time_coefficients = ctx.time_coefficients;
         self.step_number = ctx.step;
         self.step_time_end = ctx.time_end();
+        // 1. rotor
         self.turn_rotor(ctx.rotor.as_ref())?;
         std::mem::swap(&mut self.fluid, fluid);
         // Called from outside the thread pool, every parallel loop of the step would be handed

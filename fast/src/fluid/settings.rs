@@ -1,0 +1,65 @@
+//! Controls and counters of the fast solver's linear solves: tolerances from the case
+//! ([`FastSettings`]), what a step's solves cost ([`SolveCounts`]), and the check that turns an
+//! unconverged solve into an error.
+
+use spillage_model::fluid::settings::NumericsSection;
+
+use crate::linear::{SolveStats, Tolerance};
+
+/// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
+/// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FastSettings {
+    /// Pressure: AMG-preconditioned CG, normalised residual (OpenFOAM's definition).
+    pub pressure: Tolerance,
+    /// Momentum components: Jacobi-preconditioned BiCGStab.
+    pub momentum: Tolerance,
+}
+
+impl Default for FastSettings {
+    fn default() -> Self {
+        FastSettings {
+            pressure: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
+            momentum: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
+        }
+    }
+}
+
+impl FastSettings {
+    /// The controls a case file sets (`[numerics] linear_tolerance`, `max_linear_iterations`).
+    pub fn from_numerics(numerics: &NumericsSection) -> Self {
+        let tolerance = Tolerance { tolerance: numerics.linear_tolerance, max_iterations: numerics.max_linear_iterations };
+        FastSettings { pressure: tolerance, momentum: tolerance }
+    }
+}
+
+/// Iteration counts of the last step (for benchmarks).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SolveCounts {
+    pub pressure_solves: usize,
+    pub pressure_iterations: usize,
+    pub momentum_iterations: usize,
+    /// Iterations of the first [`SolveCounts::PER_SOLVE`] pressure solves of the step, in order.
+    pub pressure_per_solve: [u16; SolveCounts::PER_SOLVE],
+    /// Wall-clock seconds of the step in the multigrid setup, the pressure solves and the
+    /// momentum solves (for the benchmark's breakdown; never used by the algorithm).
+    pub amg_setup_seconds: f64,
+    pub pressure_seconds: f64,
+    pub momentum_seconds: f64,
+    pub step_seconds: f64,
+}
+
+impl SolveCounts {
+    pub const PER_SOLVE: usize = 12;
+}
+
+/// Why a solve that used its whole iteration budget is not an answer (`None` when it
+/// converged): a silently unconverged solve would pass off a wrong state as a result.
+pub fn unconverged(stats: &SolveStats, tolerance: Tolerance) -> Option<String> {
+    (stats.iterations >= tolerance.max_iterations && stats.final_residual > tolerance.tolerance).then(|| {
+        format!(
+            "did not converge in {} iterations (normalised residual {:.3e} > {:.1e}); raise [numerics] max_linear_iterations or loosen linear_tolerance",
+            stats.iterations, stats.final_residual, tolerance.tolerance
+        )
+    })
+}
