@@ -7,27 +7,12 @@
 
 use rayon::prelude::*;
 use spillage_model::fluid::conditions::Conditions;
-use spillage_model::mesh::motion::rigid_rotation_velocity;
 use spillage_model::mesh::{Mesh, PatchKind, Vec3};
 
 use crate::linear::reduce::CHUNK;
 
-/// Rigid rotation of the rotor zone.
-#[derive(Clone, Debug)]
-pub struct Rotor {
-    pub zone: usize,
-    pub axis: Vec3,
-    pub origin: Vec3,
-    /// Angular velocity about `axis` [rad/s].
-    pub omega: f64,
-}
-
-impl Rotor {
-    #[inline]
-    pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
-        rigid_rotation_velocity(self.omega, &self.axis, &self.origin, x)
-    }
-}
+/// Rigid rotation of the rotor zone: the model's rotor zone and pose.
+pub type Rotor = spillage_model::step::RotorZone;
 
 /// The rotor's velocity field x ↦ ω â × (x − x₀), as the boundary conditions take it (`None`
 /// without a rotor).

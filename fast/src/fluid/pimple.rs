@@ -94,25 +94,13 @@ impl FastFluid {
         let fluid = case.fluid.as_ref().ok_or_else(|| unsupported("the case has no [fluid] section"))?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
-        let mut body_force = Vec3::from(numerics.body_force);
-        if numerics.fluid_gravity {
-            body_force += Vec3::from(case.physics.gravity);
-        }
+        let body_force = numerics.kinematic_body_force(case.physics.gravity);
         let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
         let frame = rotating_zone.map(|z| {
             let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
             Frame::new(r.origin, r.axis)
         });
-        let rotor = match &case.rotor {
-            Some(section) => {
-                let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| unsupported(format!("rotor.zone = {:?} is not a zone of the mesh", section.zone)))?;
-                if mesh.zones[zone].rotation.is_none() {
-                    return Err(unsupported(format!("mesh zone {:?} cannot rotate", section.zone)));
-                }
-                Some(Rotor { zone, axis: Vec3::from(section.axis).normalize(), origin: Vec3::from(section.origin), omega: section.angular_velocity() })
-            }
-            None => None,
-        };
+        let rotor = Rotor::from_case(case, &mesh).map_err(unsupported)?;
         let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, PatchKind::Interface { .. }));
         if has_interface_patch && (mesh.interfaces.is_empty() || frame.is_none()) {
             return Err(unsupported("the mesh has interface patches but no cylindrical sliding-interface description (the fast solver needs the shared z layers)"));
@@ -123,8 +111,11 @@ impl FastFluid {
         fluid_state.fill_missing_old_flux(&mesh);
         fluid_state.check_matches(&mesh).map_err(unsupported)?;
         let mut mesh = mesh;
-        if let Some(r) = &rotor {
-            mesh.set_zone_angle(r.zone, state.rotor_angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
+        let mut rotor = rotor;
+        if let Some(r) = rotor.as_mut() {
+            // the rotor where the state left it, before the link geometry is built from the mesh
+            let pose = RotorPose { angle: state.rotor_angle, ..r.pose };
+            r.place(&mut mesh, &pose).map_err(unsupported)?;
         }
         let mut in_rotor = vec![false; n];
         let mut moving_faces = Vec::new();
@@ -230,10 +221,7 @@ impl FastFluid {
     /// the pose's motion and moves the zone's faces and boundary faces in place.
     fn turn_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
         if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
-            r.axis = pose.axis;
-            r.origin = pose.origin;
-            r.omega = pose.omega;
-            self.mesh.set_zone_angle(r.zone, pose.angle).map_err(|e| unsupported(format!("cannot rotate the rotor zone: {e}")))?;
+            r.place(&mut self.mesh, pose).map_err(unsupported)?;
             for &f in &self.moving_faces {
                 self.links.update_face(&self.mesh, f, self.rotor.as_ref(), &self.in_rotor);
             }

@@ -300,6 +300,16 @@ impl Default for NumericsSection {
 }
 
 impl NumericsSection {
+    /// The kinematic body force on the fluid [m/s²]: `body_force`, plus `gravity` when
+    /// `fluid_gravity` is on.
+    pub fn kinematic_body_force(&self, gravity: [f64; 3]) -> crate::mesh::Vec3 {
+        let mut force = crate::mesh::Vec3::from(self.body_force);
+        if self.fluid_gravity {
+            force += crate::mesh::Vec3::from(gravity);
+        }
+        force
+    }
+
     fn default_linear_fraction() -> f64 {
         0.9
     }

@@ -16,5 +16,5 @@ pub mod time_step;
 pub use context::{time_coefficients, StepContext};
 pub use coupled::{Coupled, FluidOnly, ParticlesOnly};
 pub use phases::{Absent, FluidPhase, FluidStepOutcome, ParticleLoad, ParticlePhase};
-pub use rotor_pose::{rigid_rotation_velocity, RotorPose};
+pub use rotor_pose::{rigid_rotation_velocity, RotorPose, RotorZone};
 pub use time_step::TimeStepControl;

@@ -47,6 +47,41 @@ impl RotorPose {
 
 pub use crate::mesh::motion::rigid_rotation_velocity;
 
+/// The fluid mesh's rotor zone and the rotor's pose at the current step: what both fluid
+/// phases turn and take their rotor-face and rotating-wall velocities from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RotorZone {
+    /// Index of the mesh zone named by `[rotor] zone`.
+    pub zone: usize,
+    pub pose: RotorPose,
+}
+
+impl RotorZone {
+    /// The zone of `[rotor]` in `mesh` at angle 0 (`None` without `[rotor]`), or why it cannot
+    /// turn.
+    pub fn from_case(case: &Case, mesh: &crate::mesh::Mesh) -> Result<Option<RotorZone>, String> {
+        let (Some(section), Some(pose)) = (&case.rotor, RotorPose::from_case(case, 0.0)) else { return Ok(None) };
+        let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| format!("rotor.zone = {:?} is not a zone of the mesh", section.zone))?;
+        if mesh.zones[zone].rotation.is_none() {
+            return Err(format!("mesh zone {:?} cannot rotate", section.zone));
+        }
+        Ok(Some(RotorZone { zone, pose }))
+    }
+
+    /// Velocity of a point turning with the rotor.
+    #[inline]
+    pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
+        self.pose.velocity_at(x)
+    }
+
+    /// Takes `pose` and turns the zone of `mesh` to its angle (from the zone's reference
+    /// geometry, so no round-off accumulates).
+    pub fn place(&mut self, mesh: &mut crate::mesh::Mesh, pose: &RotorPose) -> Result<(), String> {
+        self.pose = *pose;
+        mesh.set_zone_angle(self.zone, pose.angle).map_err(|e| format!("cannot rotate the rotor zone: {e}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,7 +5,6 @@
 //! condition from the case; empty faces (2-D) and interface faces carry no flux of their own and
 //! are not listed.
 
-use spillage_model::mesh::motion::rigid_rotation_velocity;
 use spillage_model::mesh::{Mesh, PatchKind, Vec3};
 
 /// Where a link comes from.
@@ -82,21 +81,8 @@ pub struct BoundaryFace {
     pub across: Option<(usize, f64)>,
 }
 
-/// Rigid rotation of the rotor zone, if any.
-#[derive(Clone, Debug)]
-pub struct RotorMotion {
-    pub zone: usize,
-    pub axis: Vec3,
-    pub origin: Vec3,
-    /// Angular velocity about `axis` [rad/s].
-    pub omega: f64,
-}
-
-impl RotorMotion {
-    pub fn velocity_at(&self, x: &Vec3) -> Vec3 {
-        rigid_rotation_velocity(self.omega, &self.axis, &self.origin, x)
-    }
-}
+/// Rigid rotation of the rotor zone, if any: the model's rotor zone and pose.
+pub type RotorMotion = spillage_model::step::RotorZone;
 
 /// All links and boundary faces of the current mesh position.
 #[derive(Clone, Debug)]

@@ -44,33 +44,13 @@ impl ReferenceFluid {
         let fluid = case.fluid.as_ref().ok_or_else(|| SolverError::Unsupported("the case has no [fluid] section".into()))?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
-        let mut body_force = Vec3::from(numerics.body_force);
-        if numerics.fluid_gravity {
-            body_force += Vec3::from(case.physics.gravity);
-        }
-
+        let body_force = numerics.kinematic_body_force(case.physics.gravity);
         let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
         let interface_axis = rotating_zone.map(|z| {
             let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
             (r.axis, r.origin)
         });
-        let rotor = match (&case.rotor, rotating_zone) {
-            (Some(section), _) => {
-                let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| {
-                    SolverError::Unsupported(format!("rotor.zone = {:?} is not a zone of the mesh", section.zone))
-                })?;
-                if mesh.zones[zone].rotation.is_none() {
-                    return Err(SolverError::Unsupported(format!("mesh zone {:?} cannot rotate", section.zone)));
-                }
-                Some(RotorMotion {
-                    zone,
-                    axis: Vec3::from(section.axis).normalize(),
-                    origin: Vec3::from(section.origin),
-                    omega: section.angular_velocity(),
-                })
-            }
-            (None, _) => None,
-        };
+        let rotor = RotorMotion::from_case(case, &mesh).map_err(SolverError::Unsupported)?;
 
         let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
         fluid_state.fill_missing_old_flux(&mesh);
@@ -311,11 +291,6 @@ fn ddt_flux_correction(
         .collect()
 }
 
-/// Turns the rotor zone to `angle` (from its reference geometry, so no drift accumulates).
-fn set_zone_angle(mesh: &mut Mesh, zone: usize, angle: f64) -> Result<(), SolverError> {
-    mesh.set_zone_angle(zone, angle).map_err(|e| SolverError::Unsupported(format!("cannot rotate the rotor zone: {e}")))
-}
-
 impl FluidPhase for ReferenceFluid {
     fn name(&self) -> &'static str {
         "reference"
@@ -329,11 +304,7 @@ impl FluidPhase for ReferenceFluid {
     /// accumulates) and takes the pose's motion for the mesh fluxes and wall velocities.
     fn place_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
         if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
-            r.axis = pose.axis;
-            r.origin = pose.origin;
-            r.omega = pose.omega;
-            let zone = r.zone;
-            set_zone_angle(&mut self.mesh, zone, pose.angle)?;
+            r.place(&mut self.mesh, pose).map_err(SolverError::Unsupported)?;
         }
         Ok(())
     }
