@@ -73,7 +73,6 @@ fn n_cells(case: &Case) -> usize {
     spillage::verify::fluid::build_mesh(case).expect("mesh").n_cells()
 }
 
-
 /// 7-point Laplacian on an n³ grid (diagonal 6 everywhere: Dirichlet walls), the pressure
 /// matrix shape of a 3-D hexahedral mesh.
 fn laplacian3d(n: usize) -> Csr {

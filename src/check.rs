@@ -44,9 +44,25 @@ pub fn derive(case: &Case) -> Derived {
             let dz = if *two_d { f64::INFINITY } else { (z_max - z_min) / *n_z as f64 };
             (dr.min(arc).min(dz), r_outer - r_inner, Some(*r_outer))
         }
-        MeshSection::RotorStator { r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, two_d } => {
-            let dr = smallest_graded_cell(r_interface - r_inner, *n_r_rotor, *radial_grading)
-                .min(smallest_graded_cell(r_outer - r_interface, *n_r_stator, *radial_grading));
+        MeshSection::RotorStator {
+            r_inner,
+            r_interface,
+            r_outer,
+            z_min,
+            z_max,
+            n_r_rotor,
+            n_r_stator,
+            n_theta_rotor,
+            n_theta_stator,
+            n_z,
+            radial_grading,
+            two_d,
+        } => {
+            let dr = smallest_graded_cell(r_interface - r_inner, *n_r_rotor, *radial_grading).min(smallest_graded_cell(
+                r_outer - r_interface,
+                *n_r_stator,
+                *radial_grading,
+            ));
             let arc = (r_inner * std::f64::consts::TAU / *n_theta_rotor as f64).min(r_interface * std::f64::consts::TAU / *n_theta_stator as f64);
             let dz = if *two_d { f64::INFINITY } else { (z_max - z_min) / *n_z as f64 };
             (dr.min(arc).min(dz), r_outer - r_inner, Some(*r_interface))
@@ -136,7 +152,9 @@ fn particle_lines(case: &Case) -> Vec<String> {
     let Some(p) = &case.particles else { return Vec::new() };
     let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
     diameters.extend(p.groups.iter().map(|g| match g {
-        GroupSection::List { diameter, .. } | GroupSection::Lattice { diameter, .. } | GroupSection::Random { diameter, .. } => (diameter.smallest(), diameter.largest()),
+        GroupSection::List { diameter, .. } | GroupSection::Lattice { diameter, .. } | GroupSection::Random { diameter, .. } => {
+            (diameter.smallest(), diameter.largest())
+        }
     }));
     let (Some(d_min), Some(d_max)) = (diameters.iter().map(|d| d.0).reduce(f64::min), diameters.iter().map(|d| d.1).reduce(f64::max)) else {
         return vec!["particles    none placed or fed".into()];
@@ -144,7 +162,11 @@ fn particle_lines(case: &Case) -> Vec<String> {
     let mut lines = vec![format!("particles    diameters {d_min:.4e} … {d_max:.4e} m")];
     let speed = p.collision_speed;
     // Stiffest material against itself, sphere–sphere: E* = E_c / (2(1 − ν²)) (spec §7.2).
-    let stiffest = p.materials.iter().map(|m| (m.density, m.contact_youngs_modulus() / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio)))).fold((0.0, 0.0), |a: (f64, f64), b| (a.0.max(b.0), a.1.max(b.1)));
+    let stiffest = p
+        .materials
+        .iter()
+        .map(|m| (m.density, m.contact_youngs_modulus() / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio))))
+        .fold((0.0, 0.0), |a: (f64, f64), b| (a.0.max(b.0), a.1.max(b.1)));
     if stiffest.1 > 0.0 {
         let t_col = collision_time::collision_time(stiffest.0, stiffest.1, 0.25 * d_min, speed);
         let dt_sub = p.substep.unwrap_or(t_col / p.steps_per_collision);
@@ -158,7 +180,12 @@ fn particle_lines(case: &Case) -> Vec<String> {
         for m in &p.materials {
             let lo = restitution::stokes_number(m.density, rho_f, speed, d_min, nu);
             let hi = restitution::stokes_number(m.density, rho_f, speed, d_max, nu);
-            lines.push(format!("Stokes       {}: St_AM {lo:.3e} … {hi:.3e} at {speed} m/s (wet e/e_dry {:.3} … {:.3}, spec §7.5)", m.name, restitution::wet_restitution(1.0, lo), restitution::wet_restitution(1.0, hi)));
+            lines.push(format!(
+                "Stokes       {}: St_AM {lo:.3e} … {hi:.3e} at {speed} m/s (wet e/e_dry {:.3} … {:.3}, spec §7.5)",
+                m.name,
+                restitution::wet_restitution(1.0, lo),
+                restitution::wet_restitution(1.0, hi)
+            ));
         }
     }
     lines

@@ -98,12 +98,8 @@ impl Frames {
                     wall_index.push(w as i64);
                 }
             }
-            let poly = PolyData {
-                points: &points,
-                cells: PolyCells::Triangles(&triangles),
-                point_data: vec![],
-                cell_data: vec![Field::int("wall", &wall_index)],
-            };
+            let poly =
+                PolyData { points: &points, cells: PolyCells::Triangles(&triangles), point_data: vec![], cell_data: vec![Field::int("wall", &wall_index)] };
             vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(points.len() * 3 + triangles.len() * 4, BINARY_ABOVE))?;
             Self::collection(&mut self.walls, out.join("walls.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
         }

@@ -47,9 +47,7 @@ enum Command {
     },
     /// Validate a case file and print the derived numbers (cells, Courant number, DEM step,
     /// Stokes numbers, memory estimate).
-    Check {
-        case: PathBuf,
-    },
+    Check { case: PathBuf },
     /// Run the verification ladder: one row per checked quantity; exit status 1 if any fails.
     /// Closed-form and semi-analytic answers the solvers are checked against
     /// (`spillage analytic --list`).

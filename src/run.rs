@@ -113,23 +113,20 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
             summary.set_result(name, *value);
         }
     }
-    summary.set_detail("status", match &result {
-        Ok(()) => "completed".to_string(),
-        Err(e) => format!("failed: {e}"),
-    });
+    summary.set_detail(
+        "status",
+        match &result {
+            Ok(()) => "completed".to_string(),
+            Err(e) => format!("failed: {e}"),
+        },
+    );
     summary.write(&out.join("summary.json"))?;
     if case.output.plots {
         draw_plots(&out)?;
     }
     match result {
         Ok(()) => {
-            eprintln!(
-                "{}: {} steps to t = {:.6e} s in {wall:.1} s; results in {}",
-                case.case.name,
-                run.steps,
-                state.time,
-                out.display()
-            );
+            eprintln!("{}: {} steps to t = {:.6e} s in {wall:.1} s; results in {}", case.case.name, run.steps, state.time, out.display());
             Ok(ExitCode::SUCCESS)
         }
         Err(e) => Err(anyhow::anyhow!("{e} (after {wall:.1} s; results up to the failure are in {})", out.display())),
@@ -278,7 +275,8 @@ fn draw_plots(out: &Path) -> anyhow::Result<()> {
         if points.is_empty() {
             continue;
         }
-        let plot = Plot { title: column, x_label: "time [s]", y_label: column, log_x: false, log_y: false, series: vec![Series { label: column, points: &points }] };
+        let plot =
+            Plot { title: column, x_label: "time [s]", y_label: column, log_x: false, log_y: false, series: vec![Series { label: column, points: &points }] };
         write_png(&plot, &dir.join(format!("{column}.png")))?;
     }
     Ok(())

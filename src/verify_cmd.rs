@@ -54,8 +54,14 @@ fn print_table(rows: &[CheckRow]) {
     for r in rows {
         println!(
             "{:<28} {:<40} {:<9} {:>12.5e} {:>12.5e} {:>10.3e} {:>10.3e}  {}",
-            r.case, r.quantity, r.solver, r.value, r.reference, r.error, r.tolerance, if r.pass { "pass" } else { "FAIL" }
+            r.case,
+            r.quantity,
+            r.solver,
+            r.value,
+            r.reference,
+            r.error,
+            r.tolerance,
+            if r.pass { "pass" } else { "FAIL" }
         );
     }
 }
-

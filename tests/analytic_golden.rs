@@ -10,9 +10,7 @@ use spillage_analytic::drag_laws::DragLaw;
 use spillage_analytic::hindered_settling::{cloud_settling_velocity, CloudReconstruction};
 use spillage_analytic::restitution::legendre_wet_restitution;
 use spillage_analytic::settling::SettlingSphere;
-use spillage_analytic::spillage_model::{
-    solve, CutterProfile, SpillageInputs, MIXTURE_DENSITY_TOP,
-};
+use spillage_analytic::spillage_model::{solve, CutterProfile, SpillageInputs, MIXTURE_DENSITY_TOP};
 
 /// Rounds to `digits` significant digits.
 fn sig(value: f64, digits: i32) -> f64 {
@@ -24,8 +22,7 @@ fn sig(value: f64, digits: i32) -> f64 {
 }
 
 fn spillage_point(rpm: f64, discharge: f64, density_top: f64) -> Value {
-    let mut inputs =
-        SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, discharge);
+    let mut inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, discharge);
     inputs.density_top = density_top;
     let s = solve(&inputs).expect("calibrated inputs are valid");
     json!({
@@ -44,22 +41,10 @@ fn spillage_point(rpm: f64, discharge: f64, density_top: f64) -> Value {
 #[test]
 fn calibrated_spillage_curves() {
     let rpms = [20.0, 30.0, 45.0, 60.0, 75.0, 90.0];
-    let water_012: Vec<Value> = rpms
-        .iter()
-        .map(|&n| spillage_point(n, 0.12, 998.2))
-        .collect();
-    let water_006: Vec<Value> = rpms
-        .iter()
-        .map(|&n| spillage_point(n, 0.06, 998.2))
-        .collect();
-    let suction_60rpm: Vec<Value> = [0.03, 0.06, 0.09, 0.12, 0.15]
-        .iter()
-        .map(|&q| spillage_point(60.0, q, 998.2))
-        .collect();
-    let mixture_012: Vec<Value> = rpms
-        .iter()
-        .map(|&n| spillage_point(n, 0.12, MIXTURE_DENSITY_TOP))
-        .collect();
+    let water_012: Vec<Value> = rpms.iter().map(|&n| spillage_point(n, 0.12, 998.2)).collect();
+    let water_006: Vec<Value> = rpms.iter().map(|&n| spillage_point(n, 0.06, 998.2)).collect();
+    let suction_60rpm: Vec<Value> = [0.03, 0.06, 0.09, 0.12, 0.15].iter().map(|&q| spillage_point(60.0, q, 998.2)).collect();
+    let mixture_012: Vec<Value> = rpms.iter().map(|&n| spillage_point(n, 0.12, MIXTURE_DENSITY_TOP)).collect();
     let snapshot = json!({
         "geometry": "CutterProfile::illustrative_lab_head (not the thesis geometry)",
         "alpha": 0.375,

@@ -25,7 +25,8 @@ fn run(file: &str) -> Vec<CheckRow> {
 fn summary(rows: &[CheckRow]) -> Vec<(String, String, bool)> {
     rows.iter()
         .map(|r| {
-            let quantum = if r.tolerance > 0.0 { 0.1 * r.tolerance * if r.reference != 0.0 && r.tolerance < 1.0 { r.reference.abs() } else { 1.0 } } else { 0.0 };
+            let quantum =
+                if r.tolerance > 0.0 { 0.1 * r.tolerance * if r.reference != 0.0 && r.tolerance < 1.0 { r.reference.abs() } else { 1.0 } } else { 0.0 };
             let value = if quantum > 0.0 { (r.value / quantum).round() * quantum } else { r.value };
             let digits = if quantum > 0.0 { ((value.abs().max(quantum) / quantum).log10().ceil() as usize).clamp(1, 12) } else { 12 };
             (r.quantity.clone(), format!("{value:.*e}", digits.saturating_sub(1)), r.pass)

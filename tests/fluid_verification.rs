@@ -93,7 +93,6 @@ fn taylor_green() {
     check("taylor_green.toml");
 }
 
-
 /// `cargo test --test fluid_verification full_ladder -- --ignored --nocapture` prints the
 /// `--full` rows (coarse only if SPILLAGE_COARSE is set) of every case named in SPILLAGE_FULL
 /// (comma-separated file names).
@@ -109,7 +108,6 @@ fn full_ladder() {
         }
     }
 }
-
 
 #[test]
 fn couette_sliding_off_centre() {

@@ -159,7 +159,13 @@ fn variable_step_bdf2_is_second_order_in_time() {
         let (long, short) = (2.0 * h * 1.3 / 2.3, 2.0 * h / 2.3);
         let mut report = StepReport::default();
         for k in 0..n {
-            let dt = if !vary { h } else if k % 2 == 0 { long } else { short };
+            let dt = if !vary {
+                h
+            } else if k % 2 == 0 {
+                long
+            } else {
+                short
+            };
             run.advance_by(dt, &mut report).unwrap();
         }
         assert!((run.state().time - 1.0).abs() < 1e-12);
@@ -220,7 +226,9 @@ fn a_state_without_the_phase_it_needs_is_refused() {
     let case = load("cases/coupling/one_way_cavity.toml");
     let mut state = State::default();
     let dem = ReferenceDem::new(&case, &mut state).unwrap();
-    let Err(e) = Coupled::<FastFluid, ReferenceDem>::new(&case, state.clone(), None, Some(dem)) else { panic!("a particle-only run of a case with a fluid was accepted") };
+    let Err(e) = Coupled::<FastFluid, ReferenceDem>::new(&case, state.clone(), None, Some(dem)) else {
+        panic!("a particle-only run of a case with a fluid was accepted")
+    };
     assert!(e.to_string().contains("[fluid]"), "{e}");
     let mut state = state;
     let fluid = ReferenceFluid::new(&case, spillage::verify::fluid::build_mesh(&case).unwrap(), &mut state).unwrap();

@@ -25,35 +25,23 @@ pub struct ChannelFlow {
 }
 
 impl ChannelFlow {
-    pub fn new(
-        height: f64,
-        viscosity: f64,
-        pressure_gradient: f64,
-        wall_speed: f64,
-    ) -> Result<Self> {
+    pub fn new(height: f64, viscosity: f64, pressure_gradient: f64, wall_speed: f64) -> Result<Self> {
         positive("height", height)?;
         positive("viscosity", viscosity)?;
         finite("pressure_gradient", pressure_gradient)?;
         finite("wall_speed", wall_speed)?;
-        Ok(Self {
-            height,
-            viscosity,
-            pressure_gradient,
-            wall_speed,
-        })
+        Ok(Self { height, viscosity, pressure_gradient, wall_speed })
     }
 
     /// u(y) for y in [0, h].
     pub fn velocity(&self, y: f64) -> Result<f64> {
         let y = in_closed("y", y, 0.0, self.height, "within [0, height]")?;
-        Ok(self.wall_speed * y / self.height
-            - self.pressure_gradient / (2.0 * self.viscosity) * y * (self.height - y))
+        Ok(self.wall_speed * y / self.height - self.pressure_gradient / (2.0 * self.viscosity) * y * (self.height - y))
     }
 
     /// Flow rate per unit width Q = U h/2 − (dp/dx) h³/(12μ).
     pub fn flow_rate(&self) -> f64 {
-        0.5 * self.wall_speed * self.height
-            - self.pressure_gradient * self.height.powi(3) / (12.0 * self.viscosity)
+        0.5 * self.wall_speed * self.height - self.pressure_gradient * self.height.powi(3) / (12.0 * self.viscosity)
     }
 
     /// Mean velocity Q/h.
@@ -63,10 +51,7 @@ impl ChannelFlow {
 
     /// Wall shear stresses (τ at y = 0, τ at y = h) = μ du/dy.
     pub fn wall_shear_stresses(&self) -> (f64, f64) {
-        let du = |y: f64| {
-            self.wall_speed / self.height
-                - self.pressure_gradient / (2.0 * self.viscosity) * (self.height - 2.0 * y)
-        };
+        let du = |y: f64| self.wall_speed / self.height - self.pressure_gradient / (2.0 * self.viscosity) * (self.height - 2.0 * y);
         (self.viscosity * du(0.0), self.viscosity * du(self.height))
     }
 }
@@ -83,22 +68,12 @@ pub struct TaylorGreen {
 }
 
 impl TaylorGreen {
-    pub fn new(
-        amplitude: f64,
-        wavenumber: f64,
-        kinematic_viscosity: f64,
-        density: f64,
-    ) -> Result<Self> {
+    pub fn new(amplitude: f64, wavenumber: f64, kinematic_viscosity: f64, density: f64) -> Result<Self> {
         finite("amplitude", amplitude)?;
         positive("wavenumber", wavenumber)?;
         positive("kinematic_viscosity", kinematic_viscosity)?;
         positive("density", density)?;
-        Ok(Self {
-            amplitude,
-            wavenumber,
-            kinematic_viscosity,
-            density,
-        })
+        Ok(Self { amplitude, wavenumber, kinematic_viscosity, density })
     }
 
     fn decay(&self, t: f64) -> f64 {
@@ -108,19 +83,13 @@ impl TaylorGreen {
     /// Velocity (u, v) at (x, y, t).
     pub fn velocity(&self, x: f64, y: f64, t: f64) -> (f64, f64) {
         let (k, f) = (self.wavenumber, self.decay(t));
-        (
-            self.amplitude * (k * x).sin() * (k * y).cos() * f,
-            -self.amplitude * (k * x).cos() * (k * y).sin() * f,
-        )
+        (self.amplitude * (k * x).sin() * (k * y).cos() * f, -self.amplitude * (k * x).cos() * (k * y).sin() * f)
     }
 
     /// Pressure relative to p₀.
     pub fn pressure(&self, x: f64, y: f64, t: f64) -> f64 {
         let k = self.wavenumber;
-        0.25 * self.density
-            * self.amplitude.powi(2)
-            * ((2.0 * k * x).cos() + (2.0 * k * y).cos())
-            * self.decay(t).powi(2)
+        0.25 * self.density * self.amplitude.powi(2) * ((2.0 * k * x).cos() + (2.0 * k * y).cos()) * self.decay(t).powi(2)
     }
 
     /// Domain-averaged kinetic energy per unit mass ½⟨u² + v²⟩ = (U²/4) exp(−4νk²t).
@@ -130,12 +99,7 @@ impl TaylorGreen {
 }
 
 /// Hydrostatic pressure p(depth) = p_surface + ρ g depth.
-pub fn hydrostatic_pressure(
-    surface_pressure: f64,
-    density: f64,
-    gravity: f64,
-    depth: f64,
-) -> Result<f64> {
+pub fn hydrostatic_pressure(surface_pressure: f64, density: f64, gravity: f64, depth: f64) -> Result<f64> {
     finite("surface_pressure", surface_pressure)?;
     positive("density", density)?;
     positive("gravity", gravity)?;
@@ -145,18 +109,8 @@ pub fn hydrostatic_pressure(
 
 /// Mixture density ρ_m = α_c ρ_c + α_p ρ_p (fluid-dem-model.md U-33: the converged pressure
 /// gradient of a held suspension is ρ_m g).
-pub fn mixture_density(
-    particle_fraction: f64,
-    particle_density: f64,
-    fluid_density: f64,
-) -> Result<f64> {
-    in_closed(
-        "particle_fraction",
-        particle_fraction,
-        0.0,
-        1.0,
-        "in [0, 1]",
-    )?;
+pub fn mixture_density(particle_fraction: f64, particle_density: f64, fluid_density: f64) -> Result<f64> {
+    in_closed("particle_fraction", particle_fraction, 0.0, 1.0, "in [0, 1]")?;
     positive("particle_density", particle_density)?;
     positive("fluid_density", fluid_density)?;
     Ok((1.0 - particle_fraction) * fluid_density + particle_fraction * particle_density)
@@ -168,11 +122,7 @@ pub fn lattice_particle_fraction(diameter: f64, spacing: f64) -> Result<f64> {
     positive("diameter", diameter)?;
     positive("spacing", spacing)?;
     if spacing < diameter {
-        return Err(crate::error::AnalyticError::OutOfRange {
-            name: "spacing",
-            value: spacing,
-            allowed: ">= diameter (no overlap)",
-        });
+        return Err(crate::error::AnalyticError::OutOfRange { name: "spacing", value: spacing, allowed: ">= diameter (no overlap)" });
     }
     Ok(std::f64::consts::PI / 6.0 * (diameter / spacing).powi(3))
 }
@@ -219,20 +169,16 @@ mod tests {
         let e = 1e-5;
         let u = |x: f64, y: f64, t: f64| tg.velocity(x, y, t);
         // Continuity.
-        let div =
-            (u(x + e, y, t).0 - u(x - e, y, t).0 + u(x, y + e, t).1 - u(x, y - e, t).1) / (2.0 * e);
+        let div = (u(x + e, y, t).0 - u(x - e, y, t).0 + u(x, y + e, t).1 - u(x, y - e, t).1) / (2.0 * e);
         assert!(div.abs() < 1e-9);
         // x-momentum: ∂u/∂t + u ∂u/∂x + v ∂u/∂y = −(1/ρ) ∂p/∂x + ν ∇²u.
         let (u0, v0) = u(x, y, t);
         let dudt = (u(x, y, t + e).0 - u(x, y, t - e).0) / (2.0 * e);
         let dudx = (u(x + e, y, t).0 - u(x - e, y, t).0) / (2.0 * e);
         let dudy = (u(x, y + e, t).0 - u(x, y - e, t).0) / (2.0 * e);
-        let lap = (u(x + e, y, t).0 + u(x - e, y, t).0 + u(x, y + e, t).0 + u(x, y - e, t).0
-            - 4.0 * u0)
-            / (e * e);
+        let lap = (u(x + e, y, t).0 + u(x - e, y, t).0 + u(x, y + e, t).0 + u(x, y - e, t).0 - 4.0 * u0) / (e * e);
         let dpdx = (tg.pressure(x + e, y, t) - tg.pressure(x - e, y, t)) / (2.0 * e);
-        let residual =
-            dudt + u0 * dudx + v0 * dudy + dpdx / tg.density - tg.kinematic_viscosity * lap;
+        let residual = dudt + u0 * dudx + v0 * dudy + dpdx / tg.density - tg.kinematic_viscosity * lap;
         // Central differences with ε = 1e-5: truncation ~1e-10, round-off in the Laplacian ~1e-6.
         assert!(residual.abs() < 1e-5, "residual {residual:e}");
         // Kinetic energy: domain average by quadrature equals (U²/4) e^(−4νk²t).
@@ -254,21 +200,12 @@ mod tests {
             4,
         ) / (l * l);
         assert!((ke - tg.mean_kinetic_energy(t)).abs() < 1e-13);
-        assert!(
-            (tg.mean_kinetic_energy(t) / tg.mean_kinetic_energy(0.0)
-                - (-4.0 * 0.01 * 4.0 * t).exp())
-            .abs()
-                < 1e-15
-        );
+        assert!((tg.mean_kinetic_energy(t) / tg.mean_kinetic_energy(0.0) - (-4.0 * 0.01 * 4.0 * t).exp()).abs() < 1e-15);
     }
 
     #[test]
     fn hydrostatics_and_packing_match_spec() {
-        assert!(
-            (hydrostatic_pressure(1e5, 998.2, 9.81, 2.0).unwrap() - (1e5 + 998.2 * 9.81 * 2.0))
-                .abs()
-                < 1e-9
-        );
+        assert!((hydrostatic_pressure(1e5, 998.2, 9.81, 2.0).unwrap() - (1e5 + 998.2 * 9.81 * 2.0)).abs() < 1e-9);
         // V14: d_inter = 1.5 d_p gives α_p = 0.1551 and ρ_m ≈ 1254.5 kg/m³ (Tab. 8.3/8.5: 1254).
         let alpha_p = lattice_particle_fraction(0.02, 0.03).unwrap();
         assert!((alpha_p - 0.1551).abs() < 5e-5);

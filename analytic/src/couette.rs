@@ -38,39 +38,20 @@ pub struct CouettePoint {
 
 impl CircularCouette {
     /// Validates radii (0 < R_i < R_o) and finite rotation rates.
-    pub fn new(
-        inner_radius: f64,
-        outer_radius: f64,
-        inner_omega: f64,
-        outer_omega: f64,
-    ) -> Result<Self> {
+    pub fn new(inner_radius: f64, outer_radius: f64, inner_omega: f64, outer_omega: f64) -> Result<Self> {
         positive("inner_radius", inner_radius)?;
         positive("outer_radius", outer_radius)?;
         if outer_radius <= inner_radius {
-            return Err(AnalyticError::OutOfRange {
-                name: "outer_radius",
-                value: outer_radius,
-                allowed: "greater than inner_radius",
-            });
+            return Err(AnalyticError::OutOfRange { name: "outer_radius", value: outer_radius, allowed: "greater than inner_radius" });
         }
         finite("inner_omega", inner_omega)?;
         finite("outer_omega", outer_omega)?;
-        Ok(Self {
-            inner_radius,
-            outer_radius,
-            inner_omega,
-            outer_omega,
-        })
+        Ok(Self { inner_radius, outer_radius, inner_omega, outer_omega })
     }
 
     /// The thesis case of §3.2 / Tab. 5.1: R_i = 1 m, R_o = 2 m, ω_i = 1 rad/s, outer wall at rest.
     pub fn thesis_case() -> Self {
-        Self {
-            inner_radius: 1.0,
-            outer_radius: 2.0,
-            inner_omega: 1.0,
-            outer_omega: 0.0,
-        }
+        Self { inner_radius: 1.0, outer_radius: 2.0, inner_omega: 1.0, outer_omega: 0.0 }
     }
 
     /// Coefficients (A, B) of u_θ = A r + B/r (fluid-dem-model.md §12 U-32(b)).
@@ -82,13 +63,7 @@ impl CircularCouette {
     }
 
     fn check_radius(&self, r: f64) -> Result<f64> {
-        in_closed(
-            "radius",
-            r,
-            self.inner_radius,
-            self.outer_radius,
-            "within [inner_radius, outer_radius]",
-        )
+        in_closed("radius", r, self.inner_radius, self.outer_radius, "within [inner_radius, outer_radius]")
     }
 
     /// Tangential velocity u_θ(r) (spillage-and-flow-verification.md §3.2, Eq. 5.3 in dimensional form).
@@ -110,10 +85,7 @@ impl CircularCouette {
         let r = self.check_radius(r)?;
         let (a, b) = self.coefficients();
         let ri = self.inner_radius;
-        Ok(
-            0.5 * a * a * (r * r - ri * ri) + 2.0 * a * b * (r / ri).ln()
-                - 0.5 * b * b * (1.0 / (r * r) - 1.0 / (ri * ri)),
-        )
+        Ok(0.5 * a * a * (r * r - ri * ri) + 2.0 * a * b * (r / ri).ln() - 0.5 * b * b * (1.0 / (r * r) - 1.0 / (ri * ri)))
     }
 
     /// All quantities at radius `r`.
@@ -161,15 +133,8 @@ mod tests {
         ];
         for (r, u, dpdr) in table {
             let p = cell.point(r).unwrap();
-            assert!(
-                (p.tangential_velocity - u).abs() < 5e-7,
-                "u({r}) = {}",
-                p.tangential_velocity
-            );
-            assert!(
-                (p.kinematic_pressure_gradient - dpdr).abs() < 5e-7,
-                "dp/dr({r})"
-            );
+            assert!((p.tangential_velocity - u).abs() < 5e-7, "u({r}) = {}", p.tangential_velocity);
+            assert!((p.kinematic_pressure_gradient - dpdr).abs() < 5e-7, "dp/dr({r})");
         }
     }
 
@@ -190,12 +155,7 @@ mod tests {
     #[test]
     fn pressure_rise_integrates_gradient_and_is_positive_outward() {
         let cell = CircularCouette::new(0.3, 0.7, 2.0, -0.5).unwrap();
-        let integral = crate::special::integrate(
-            |r| cell.kinematic_pressure_gradient(r).unwrap(),
-            0.3,
-            0.61,
-            8,
-        );
+        let integral = crate::special::integrate(|r| cell.kinematic_pressure_gradient(r).unwrap(), 0.3, 0.61, 8);
         assert!((cell.kinematic_pressure_rise(0.61).unwrap() - integral).abs() < 1e-13);
         // Sign erratum: the pressure must rise outward.
         let thesis = CircularCouette::thesis_case();
@@ -228,17 +188,13 @@ mod tests {
             assert!((d2 + d1 / r - u(r) / (r * r)).abs() < 1e-6);
         }
         // Torque balance: the same torque r² τ crosses every radius; check 2νB/R_i².
-        assert!(
-            (cell.inner_wall_kinematic_shear(0.02).unwrap() - 2.0 * 0.02 * 4.0 / 3.0).abs() < 1e-15
-        );
+        assert!((cell.inner_wall_kinematic_shear(0.02).unwrap() - 2.0 * 0.02 * 4.0 / 3.0).abs() < 1e-15);
     }
 
     #[test]
     fn bad_inputs_are_rejected() {
         assert!(CircularCouette::new(2.0, 1.0, 1.0, 0.0).is_err());
         assert!(CircularCouette::new(-1.0, 1.0, 1.0, 0.0).is_err());
-        assert!(CircularCouette::thesis_case()
-            .tangential_velocity(2.5)
-            .is_err());
+        assert!(CircularCouette::thesis_case().tangential_velocity(2.5).is_err());
     }
 }

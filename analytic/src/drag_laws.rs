@@ -26,12 +26,7 @@ pub enum DragLaw {
 
 impl DragLaw {
     /// All laws, in a fixed order.
-    pub const ALL: [DragLaw; 4] = [
-        DragLaw::Stokes,
-        DragLaw::SchillerNaumann,
-        DragLaw::BrownLawler,
-        DragLaw::Dallavalle,
-    ];
+    pub const ALL: [DragLaw; 4] = [DragLaw::Stokes, DragLaw::SchillerNaumann, DragLaw::BrownLawler, DragLaw::Dallavalle];
 
     /// Short name used on the command line.
     pub fn name(self) -> &'static str {
@@ -51,11 +46,7 @@ impl DragLaw {
     /// Drag coefficient at Reynolds number `re` (> 0; ≤ 2·10⁵ for Brown–Lawler).
     pub fn drag_coefficient(self, re: f64) -> Result<f64> {
         if !(re.is_finite() && re > 0.0) {
-            return Err(AnalyticError::OutOfRange {
-                name: "reynolds",
-                value: re,
-                allowed: "finite and > 0",
-            });
+            return Err(AnalyticError::OutOfRange { name: "reynolds", value: re, allowed: "finite and > 0" });
         }
         Ok(match self {
             DragLaw::Stokes => 24.0 / re,
@@ -68,11 +59,7 @@ impl DragLaw {
             }
             DragLaw::BrownLawler => {
                 if re > BROWN_LAWLER_MAX_REYNOLDS {
-                    return Err(AnalyticError::OutOfRange {
-                        name: "reynolds",
-                        value: re,
-                        allowed: "<= 2e5 for the Brown–Lawler law (Eq. 3.41)",
-                    });
+                    return Err(AnalyticError::OutOfRange { name: "reynolds", value: re, allowed: "<= 2e5 for the Brown–Lawler law (Eq. 3.41)" });
                 }
                 24.0 / re * (1.0 + 0.150 * re.powf(0.681)) + 0.407 / (1.0 + 8710.0 / re)
             }
@@ -121,35 +108,21 @@ mod tests {
         assert!((dv / bl - 1.1858).abs() < 1e-4, "thesis: 18 % larger");
         assert!((dv / sn - 1.0738).abs() < 1e-4, "thesis: 7 % larger");
         assert!(rel(DragLaw::Dallavalle.drag_coefficient(1.0).unwrap(), 29.48490) < 1e-6);
-        assert!(
-            rel(
-                DragLaw::Dallavalle.drag_coefficient(100.0).unwrap(),
-                1.23210
-            ) < 1e-6
-        );
+        assert!(rel(DragLaw::Dallavalle.drag_coefficient(100.0).unwrap(), 1.23210) < 1e-6);
         // Branch switch (U-02 and wear-model.md §3.2, A29): 0.438288 just below 1000.
         let below = DragLaw::SchillerNaumann.drag_coefficient(1000.0).unwrap();
         assert!((below - 0.438288).abs() < 1e-6);
-        assert_eq!(
-            DragLaw::SchillerNaumann
-                .drag_coefficient(1000.0001)
-                .unwrap(),
-            0.44
-        );
+        assert_eq!(DragLaw::SchillerNaumann.drag_coefficient(1000.0001).unwrap(), 0.44);
     }
 
     #[test]
     fn stokes_limit_is_shared_at_low_reynolds() {
         assert_eq!(DragLaw::Stokes.drag_coefficient(0.5).unwrap(), 48.0);
         for law in [DragLaw::SchillerNaumann, DragLaw::BrownLawler] {
-            let ratio = law.drag_coefficient(1e-6).unwrap()
-                / DragLaw::Stokes.drag_coefficient(1e-6).unwrap();
+            let ratio = law.drag_coefficient(1e-6).unwrap() / DragLaw::Stokes.drag_coefficient(1e-6).unwrap();
             assert!((ratio - 1.0).abs() < 1e-4, "{law:?}");
         }
         assert!(DragLaw::Stokes.drag_coefficient(0.0).is_err());
-        assert_eq!(
-            DragLaw::from_name("brown-lawler"),
-            Some(DragLaw::BrownLawler)
-        );
+        assert_eq!(DragLaw::from_name("brown-lawler"), Some(DragLaw::BrownLawler));
     }
 }

@@ -121,13 +121,7 @@ pub struct ImpactWear {
 }
 
 fn check_angle(angle: f64) -> Result<f64> {
-    in_closed(
-        "impact_angle",
-        angle,
-        0.0,
-        std::f64::consts::FRAC_PI_2,
-        "in [0, pi/2] rad (0 = grazing)",
-    )
+    in_closed("impact_angle", angle, 0.0, std::f64::consts::FRAC_PI_2, "in [0, pi/2] rad (0 = grazing)")
 }
 
 /// Critical angle θ_c = atan K (wear-model.md §6.5, A1: 21.8014094864° for K = 0.4).
@@ -137,11 +131,7 @@ pub fn critical_angle(contact_ratio: f64) -> f64 {
 
 /// Cutting angle function f(θ) (Eq. 2.36): (K sin2θ − sin²θ)/(2K²) for θ ≤ atan K, cos²θ above
 /// (or ½cos²θ for [`AngleFunction::Continuous`]).
-pub fn cutting_angle_function(
-    angle: f64,
-    contact_ratio: f64,
-    variant: AngleFunction,
-) -> Result<f64> {
+pub fn cutting_angle_function(angle: f64, contact_ratio: f64, variant: AngleFunction) -> Result<f64> {
     let theta = check_angle(angle)?;
     let k = positive("contact_ratio", contact_ratio)?;
     Ok(if theta <= critical_angle(k) {
@@ -157,12 +147,7 @@ pub fn cutting_angle_function(
 }
 
 /// Deformation function g (Eq. 2.38 and its variants).
-pub fn deformation_function(
-    speed: f64,
-    angle: f64,
-    threshold: f64,
-    form: DeformationForm,
-) -> Result<f64> {
+pub fn deformation_function(speed: f64, angle: f64, threshold: f64, form: DeformationForm) -> Result<f64> {
     non_negative("speed", speed)?;
     let theta = check_angle(angle)?;
     non_negative("threshold_velocity", threshold)?;
@@ -194,27 +179,13 @@ pub fn arabnejad_wear(
         MassPrefactor::ParticleDensity => particle_density,
     } * material.sharpness
         / 2.0;
-    let c = if options.include_cutting_coefficient {
-        material.cutting_coefficient
-    } else {
-        1.0
-    };
+    let c = if options.include_cutting_coefficient { material.cutting_coefficient } else { 1.0 };
     let f = cutting_angle_function(angle, material.contact_ratio, options.angle_function)?;
-    let g = deformation_function(
-        speed,
-        angle,
-        material.threshold_velocity,
-        options.deformation_form,
-    )?;
+    let g = deformation_function(speed, angle, material.threshold_velocity, options.deformation_form)?;
     let cutting_volume = prefactor * c * speed.powf(2.41) * f / material.vickers_hardness.sqrt();
     let deformation_volume = prefactor * g / material.deformation_factor;
     let volume = cutting_volume + deformation_volume;
-    Ok(ImpactWear {
-        cutting_volume,
-        deformation_volume,
-        volume,
-        mass: material.density * volume,
-    })
+    Ok(ImpactWear { cutting_volume, deformation_volume, volume, mass: material.density * volume })
 }
 
 /// Erosion ratio ER = ρ_mat W/m (wear-model.md §6.4, A15).
@@ -239,35 +210,18 @@ pub struct FinnieParameters {
 pub fn finnie_angle_function(angle: f64, force_ratio: f64) -> Result<f64> {
     let theta = check_angle(angle)?;
     let k = positive("force_ratio", force_ratio)?;
-    Ok(if theta.tan() <= k / 6.0 {
-        (2.0 * theta).sin() - 6.0 / k * theta.sin().powi(2)
-    } else {
-        k / 6.0 * (std::f64::consts::FRAC_PI_2 - theta).sin().powi(2)
-    })
+    Ok(if theta.tan() <= k / 6.0 { (2.0 * theta).sin() - 6.0 / k * theta.sin().powi(2) } else { k / 6.0 * (std::f64::consts::FRAC_PI_2 - theta).sin().powi(2) })
 }
 
 /// Finnie removed volume [m³] for particle mass m [kg] at speed U and angle θ.
-pub fn finnie_volume(
-    parameters: &FinnieParameters,
-    particle_mass: f64,
-    speed: f64,
-    angle: f64,
-) -> Result<f64> {
+pub fn finnie_volume(parameters: &FinnieParameters, particle_mass: f64, speed: f64, angle: f64) -> Result<f64> {
     positive("flow_pressure", parameters.flow_pressure)?;
     positive("depth_ratio", parameters.depth_ratio)?;
-    in_closed(
-        "cutting_fraction",
-        parameters.cutting_fraction,
-        0.0,
-        1.0,
-        "in [0, 1]",
-    )?;
+    in_closed("cutting_fraction", parameters.cutting_fraction, 0.0, 1.0, "in [0, 1]")?;
     positive("particle_mass", particle_mass)?;
     non_negative("speed", speed)?;
     let f = finnie_angle_function(angle, parameters.force_ratio)?;
-    Ok(parameters.cutting_fraction * particle_mass * speed * speed
-        / (parameters.flow_pressure * parameters.depth_ratio * parameters.force_ratio)
-        * f)
+    Ok(parameters.cutting_fraction * particle_mass * speed * speed / (parameters.flow_pressure * parameters.depth_ratio * parameters.force_ratio) * f)
 }
 
 /// Oka & Yoshida (2005) (literature form, named in wear-model.md §6.8 without formula):
@@ -294,18 +248,7 @@ impl OkaParameters {
     /// SiO₂ sand constants of Oka & Yoshida (2005) (K = 65, k₁ = −0.12, k₃ = 0.19, s₁ = 0.71,
     /// q₁ = 0.14, s₂ = 2.4, q₂ = −0.94, U' = 104 m/s, D' = 326 µm) — literature values.
     pub fn silica_sand(vickers_hardness_gpa: f64) -> Self {
-        Self {
-            vickers_hardness_gpa,
-            k: 65.0,
-            k1: -0.12,
-            k3: 0.19,
-            s1: 0.71,
-            q1: 0.14,
-            s2: 2.4,
-            q2: -0.94,
-            reference_speed: 104.0,
-            reference_diameter: 326e-6,
-        }
+        Self { vickers_hardness_gpa, k: 65.0, k1: -0.12, k3: 0.19, s1: 0.71, q1: 0.14, s2: 2.4, q2: -0.94, reference_speed: 104.0, reference_diameter: 326e-6 }
     }
 
     /// Angle function g(θ), = 1 at normal impact.
@@ -324,10 +267,7 @@ impl OkaParameters {
         non_negative("speed", speed)?;
         let hv = self.vickers_hardness_gpa;
         let k2 = 2.3 * hv.powf(0.038);
-        let e90 = self.k
-            * hv.powf(self.k1)
-            * (speed / self.reference_speed).powf(k2)
-            * (diameter / self.reference_diameter).powf(self.k3);
+        let e90 = self.k * hv.powf(self.k1) * (speed / self.reference_speed).powf(k2) * (diameter / self.reference_diameter).powf(self.k3);
         // mm³ per kg of particles → m³.
         Ok(self.angle_function(angle)? * e90 * particle_mass * 1e-9)
     }
@@ -337,9 +277,7 @@ impl OkaParameters {
 /// [kg removed per kg of particles], F(θ) = Σᵢ (−1)^(i+1) Aᵢ θⁱ (θ in rad), steel: K = 2.0e-9,
 /// n = 2.6, A = 9.370, 42.295, 110.864, 175.804, 170.137, 98.398, 31.211, 4.170 (max ≈ 1).
 pub fn dnv_angle_function(angle: f64) -> Result<f64> {
-    const A: [f64; 8] = [
-        9.370, 42.295, 110.864, 175.804, 170.137, 98.398, 31.211, 4.170,
-    ];
+    const A: [f64; 8] = [9.370, 42.295, 110.864, 175.804, 170.137, 98.398, 31.211, 4.170];
     let theta = check_angle(angle)?;
     let mut sum = 0.0;
     for (i, a) in A.iter().enumerate() {
@@ -373,14 +311,7 @@ pub fn ecrc_angle_function(angle: f64) -> Result<f64> {
 
 /// E/CRC erosion ratio ER = C (BH)^−0.59 F_s U^n F(θ) (Eq. 2.28) [kg/kg]. The spec gives no C, n;
 /// Zhang et al. (2007) use C = 2.17e-7, n = 2.41 for steel ([`ECRC_STEEL_C`], [`ECRC_STEEL_N`]).
-pub fn ecrc_erosion_ratio(
-    c: f64,
-    n: f64,
-    brinell_hardness: f64,
-    sharpness: f64,
-    speed: f64,
-    angle: f64,
-) -> Result<f64> {
+pub fn ecrc_erosion_ratio(c: f64, n: f64, brinell_hardness: f64, sharpness: f64, speed: f64, angle: f64) -> Result<f64> {
     positive("c", c)?;
     positive("n", n)?;
     positive("brinell_hardness", brinell_hardness)?;
@@ -396,19 +327,11 @@ pub const ECRC_STEEL_N: f64 = 2.41;
 
 /// Rebound at a wall, v_out = v_in − (1 + e)(v_in·n) n (wear-model.md Eq. 4.4); the tangential
 /// part is kept. Works for either orientation of the unit normal `normal`.
-pub fn rebound_velocity(
-    incoming: [f64; 3],
-    normal: [f64; 3],
-    restitution: f64,
-) -> Result<[f64; 3]> {
+pub fn rebound_velocity(incoming: [f64; 3], normal: [f64; 3], restitution: f64) -> Result<[f64; 3]> {
     in_closed("restitution", restitution, 0.0, 1.0, "in [0, 1]")?;
     let norm = (normal[0].powi(2) + normal[1].powi(2) + normal[2].powi(2)).sqrt();
     if !((norm - 1.0).abs() < 1e-9) {
-        return Err(AnalyticError::OutOfRange {
-            name: "normal length",
-            value: norm,
-            allowed: "1 (a unit vector)",
-        });
+        return Err(AnalyticError::OutOfRange { name: "normal length", value: norm, allowed: "1 (a unit vector)" });
     }
     let vn = incoming[0] * normal[0] + incoming[1] * normal[1] + incoming[2] * normal[2];
     Ok([0, 1, 2].map(|i| incoming[i] - (1.0 + restitution) * vn * normal[i]))
@@ -420,8 +343,7 @@ pub fn impact_speed_and_angle(incoming: [f64; 3], normal: [f64; 3]) -> Result<(f
     positive("impact speed", speed)?;
     let norm = (normal[0].powi(2) + normal[1].powi(2) + normal[2].powi(2)).sqrt();
     positive("normal length", norm)?;
-    let vn =
-        (incoming[0] * normal[0] + incoming[1] * normal[1] + incoming[2] * normal[2]).abs() / norm;
+    let vn = (incoming[0] * normal[0] + incoming[1] * normal[1] + incoming[2] * normal[2]).abs() / norm;
     Ok((speed, (vn / speed).clamp(0.0, 1.0).asin()))
 }
 
@@ -442,12 +364,7 @@ mod tests {
         assert!((critical_angle(0.4) - 0.3805063771).abs() < 1e-9);
         assert!((critical_angle(0.4) / DEG - 21.8014094864).abs() < 1e-9);
         // A2, A3.
-        for (deg, f) in [
-            (5.0, 0.193322336),
-            (10.0, 0.333294899),
-            (15.0, 0.415664693),
-            (20.0, 0.437928954),
-        ] {
+        for (deg, f) in [(5.0, 0.193322336), (10.0, 0.333294899), (15.0, 0.415664693), (20.0, 0.437928954)] {
             let got = cutting_angle_function(deg * DEG, 0.4, AngleFunction::ThesisLiteral).unwrap();
             assert!((got - f).abs() < 1e-9, "{deg}°: {got}");
         }
@@ -461,51 +378,24 @@ mod tests {
         let tc = critical_angle(0.4);
         let left = cutting_angle_function(tc, 0.4, AngleFunction::ThesisLiteral).unwrap();
         let right = cutting_angle_function(tc + 1e-13, 0.4, AngleFunction::ThesisLiteral).unwrap();
-        let right_cont =
-            cutting_angle_function(tc + 1e-13, 0.4, AngleFunction::Continuous).unwrap();
+        let right_cont = cutting_angle_function(tc + 1e-13, 0.4, AngleFunction::Continuous).unwrap();
         assert!((left - 0.431034483).abs() < 1e-9 && (right - 0.862068966).abs() < 1e-9);
         assert!((right_cont - 0.431034483).abs() < 1e-9);
         // A5: low-branch peak at ½ atan(2K) = 19.329904°, f = 0.438476324.
         let peak = 0.5 * (0.8f64).atan();
         assert!((peak / DEG - 19.329904).abs() < 1e-6);
-        assert!(
-            (cutting_angle_function(peak, 0.4, AngleFunction::ThesisLiteral).unwrap()
-                - 0.438476324)
-                .abs()
-                < 1e-6
-        );
+        assert!((cutting_angle_function(peak, 0.4, AngleFunction::ThesisLiteral).unwrap() - 0.438476324).abs() < 1e-6);
     }
 
     #[test]
     fn deformation_threshold_and_values() {
         // A7: SS316 at 10 m/s, 30°: normal speed 5 < 5.7 → g = 0; A8: CS1018 → (5 − 0.5)² = 20.25.
-        assert_eq!(
-            deformation_function(10.0, 30.0 * DEG, 5.7, DeformationForm::SquaredClipped).unwrap(),
-            0.0
-        );
-        assert!(
-            (deformation_function(10.0, 30.0 * DEG, 0.5, DeformationForm::SquaredClipped).unwrap()
-                - 20.25)
-                .abs()
-                < 1e-12
-        );
+        assert_eq!(deformation_function(10.0, 30.0 * DEG, 5.7, DeformationForm::SquaredClipped).unwrap(), 0.0);
+        assert!((deformation_function(10.0, 30.0 * DEG, 0.5, DeformationForm::SquaredClipped).unwrap() - 20.25).abs() < 1e-12);
         // The literal Eq. 2.38 never clips: (5 − 5.7)² = 0.49.
-        assert!(
-            (deformation_function(10.0, 30.0 * DEG, 5.7, DeformationForm::LiteralSquare).unwrap()
-                - 0.49)
-                .abs()
-                < 1e-12
-        );
+        assert!((deformation_function(10.0, 30.0 * DEG, 5.7, DeformationForm::LiteralSquare).unwrap() - 0.49).abs() < 1e-12);
         // A6: grazing impact gives zero wear with the canonical form.
-        let w = arabnejad_wear(
-            &CARBON_STEEL_1018,
-            &ArabnejadOptions::default(),
-            garnet_mass(),
-            2500.0,
-            10.0,
-            0.0,
-        )
-        .unwrap();
+        let w = arabnejad_wear(&CARBON_STEEL_1018, &ArabnejadOptions::default(), garnet_mass(), 2500.0, 10.0, 0.0).unwrap();
         assert_eq!(w.volume, 0.0);
     }
 
@@ -515,51 +405,32 @@ mod tests {
         assert!((m - 1.3089969e-6).abs() < 1e-13);
         let canonical = ArabnejadOptions::default();
         // A9: deformation only at 90° (cutting f(90°) = 0): 7.031963e-17 m³; A15: ER = 4.2278e-7.
-        let w90 =
-            arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 90.0 * DEG).unwrap();
+        let w90 = arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 90.0 * DEG).unwrap();
         assert!(w90.cutting_volume.abs() < 1e-30);
         assert!(((w90.volume - 7.031963e-17) / 7.031963e-17).abs() < 1e-6);
         let er = erosion_ratio(CARBON_STEEL_1018.density, w90.volume, m).unwrap();
         assert!(((er - 4.2278e-7) / 4.2278e-7).abs() < 1e-4);
         assert!(((w90.mass - 7870.0 * w90.volume) / w90.mass).abs() < 1e-15);
         // A10: canonical with C at 30°: 5.511937e-8; A11: literal 2.39 without C: 5.511937e-6.
-        let w30 =
-            arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
+        let w30 = arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
         assert!(((w30.volume - 5.511937e-8) / 5.511937e-8).abs() < 1e-6);
-        let literal = ArabnejadOptions {
-            include_cutting_coefficient: false,
-            ..canonical
-        };
-        let w30l =
-            arabnejad_wear(&CARBON_STEEL_1018, &literal, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
+        let literal = ArabnejadOptions { include_cutting_coefficient: false, ..canonical };
+        let w30l = arabnejad_wear(&CARBON_STEEL_1018, &literal, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
         assert!(((w30l.volume - 5.511937e-6) / 5.511937e-6).abs() < 1e-6);
         // §6.7: cutting/deformation ratio ≈ 3.5e9 for this impact.
         assert!((w30.cutting_volume / w30.deformation_volume / 3.5e9 - 1.0).abs() < 0.05);
         // A12: SS316 5.268972e-8; cutting ratio 1.25 √(131/224) = 0.955920228.
-        let s30 = arabnejad_wear(
-            &STAINLESS_STEEL_316,
-            &canonical,
-            m,
-            2500.0,
-            10.0,
-            30.0 * DEG,
-        )
-        .unwrap();
+        let s30 = arabnejad_wear(&STAINLESS_STEEL_316, &canonical, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
         assert!(((s30.volume - 5.268972e-8) / 5.268972e-8).abs() < 1e-6);
         assert!((s30.cutting_volume / w30.cutting_volume - 0.955920228).abs() < 1e-9);
         // A13: doubling U multiplies cutting by 2^2.41.
-        let w30x2 =
-            arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 20.0, 30.0 * DEG).unwrap();
+        let w30x2 = arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 20.0, 30.0 * DEG).unwrap();
         assert!((w30x2.cutting_volume / w30.cutting_volume - 5.314743256).abs() < 1e-8);
         // A14: 10°: 2.449467e-8.
-        let w10 =
-            arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 10.0 * DEG).unwrap();
+        let w10 = arabnejad_wear(&CARBON_STEEL_1018, &canonical, m, 2500.0, 10.0, 10.0 * DEG).unwrap();
         assert!(((w10.volume - 2.449467e-8) / 2.449467e-8).abs() < 1e-6);
         // §2.5 prefactor switch: ρ_p replaces m.
-        let rho = ArabnejadOptions {
-            mass_prefactor: MassPrefactor::ParticleDensity,
-            ..canonical
-        };
+        let rho = ArabnejadOptions { mass_prefactor: MassPrefactor::ParticleDensity, ..canonical };
         let wr = arabnejad_wear(&CARBON_STEEL_1018, &rho, m, 2500.0, 10.0, 30.0 * DEG).unwrap();
         assert!((wr.volume / w30.volume - 2500.0 / m).abs() / (2500.0 / m) < 1e-12);
     }
@@ -595,30 +466,19 @@ mod tests {
             assert!(finnie_angle_function(deg * DEG, 2.0).unwrap() < f_peak);
         }
         assert!(finnie_angle_function(90.0 * DEG, 2.0).unwrap().abs() < 1e-15);
-        let p = FinnieParameters {
-            flow_pressure: 1e9,
-            force_ratio: 2.0,
-            depth_ratio: 2.0,
-            cutting_fraction: 0.5,
-        };
+        let p = FinnieParameters { flow_pressure: 1e9, force_ratio: 2.0, depth_ratio: 2.0, cutting_fraction: 0.5 };
         let v = finnie_volume(&p, 1e-6, 10.0, 15.0 * DEG).unwrap();
-        let expected = 0.5 * 1e-6 * 100.0 / (1e9 * 4.0)
-            * ((30.0 * DEG).sin() - 3.0 * (15.0 * DEG).sin().powi(2));
+        let expected = 0.5 * 1e-6 * 100.0 / (1e9 * 4.0) * ((30.0 * DEG).sin() - 3.0 * (15.0 * DEG).sin().powi(2));
         assert!((v - expected).abs() < 1e-30);
         // DNV: F(0) = 0, normalised so that its maximum is ≈ 1 (near 36°), F(90°) = 0.5685.
         assert_eq!(dnv_angle_function(0.0).unwrap(), 0.0);
-        let max = (1..=900)
-            .map(|i| dnv_angle_function(i as f64 * 0.1 * DEG).unwrap())
-            .fold(0.0, f64::max);
+        let max = (1..=900).map(|i| dnv_angle_function(i as f64 * 0.1 * DEG).unwrap()).fold(0.0, f64::max);
         assert!((max - 1.0).abs() < 0.003, "{max}");
         assert!((dnv_angle_function(90.0 * DEG).unwrap() - 0.5685).abs() < 1e-4);
         let dnv = dnv_removed_mass(DNV_STEEL_K, DNV_STEEL_N, 1.0, 10.0, 90.0 * DEG).unwrap();
         // powf may be constant-folded with a different libm than at run time: 1e-12 relative.
         let expected_dnv = 2.0e-9 * 10f64.powf(2.6) * dnv_angle_function(90.0 * DEG).unwrap();
-        assert!(
-            ((dnv - expected_dnv) / expected_dnv).abs() < 1e-12,
-            "{dnv} {expected_dnv}"
-        );
+        assert!(((dnv - expected_dnv) / expected_dnv).abs() < 1e-12, "{dnv} {expected_dnv}");
         // Oka: g(90°) = 1 exactly; E₉₀ at the reference speed and size equals K Hv^k₁ (mm³/kg).
         let oka = OkaParameters::silica_sand(1.83);
         assert!((oka.angle_function(90.0 * DEG).unwrap() - 1.0).abs() < 1e-15);

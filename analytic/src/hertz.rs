@@ -30,13 +30,7 @@ pub fn exact_collision_constant() -> f64 {
 }
 
 /// Collision time t_col = C_col (ρ_p/E*)^(2/5) r_p / u^(1/5) (Eq. 3.105).
-pub fn collision_time(
-    constant: f64,
-    particle_density: f64,
-    effective_modulus: f64,
-    radius: f64,
-    speed: f64,
-) -> Result<f64> {
+pub fn collision_time(constant: f64, particle_density: f64, effective_modulus: f64, radius: f64, speed: f64) -> Result<f64> {
     positive("constant", constant)?;
     positive("particle_density", particle_density)?;
     positive("effective_modulus", effective_modulus)?;
@@ -62,11 +56,7 @@ impl ElasticMaterial {
         positive("youngs_modulus", youngs_modulus)?;
         in_open("poisson_ratio", poisson_ratio, -1.0, 0.5, "in (-1, 0.5)")?;
         positive("density", density)?;
-        Ok(Self {
-            youngs_modulus,
-            poisson_ratio,
-            density,
-        })
+        Ok(Self { youngs_modulus, poisson_ratio, density })
     }
 
     /// Shear modulus G = E/(2(1+ν)) (Eq. 3.99).
@@ -107,41 +97,25 @@ fn sphere_mass(material: &ElasticMaterial, radius: f64) -> f64 {
 impl ContactPair {
     /// Two spheres (Eq. 3.98): 1/R* = 1/R_i + 1/R_j, 1/M* = 1/m_i + 1/m_j,
     /// 1/E* = (1−ν_i²)/E_i + (1−ν_j²)/E_j, 1/G* = (2−ν_i)/G_i + (2−ν_j)/G_j.
-    pub fn sphere_sphere(
-        a: &ElasticMaterial,
-        radius_a: f64,
-        b: &ElasticMaterial,
-        radius_b: f64,
-    ) -> Result<Self> {
+    pub fn sphere_sphere(a: &ElasticMaterial, radius_a: f64, b: &ElasticMaterial, radius_b: f64) -> Result<Self> {
         positive("radius_a", radius_a)?;
         positive("radius_b", radius_b)?;
         let (ma, mb) = (sphere_mass(a, radius_a), sphere_mass(b, radius_b));
         Ok(Self {
             effective_radius: 1.0 / (1.0 / radius_a + 1.0 / radius_b),
             effective_mass: 1.0 / (1.0 / ma + 1.0 / mb),
-            effective_modulus: 1.0
-                / ((1.0 - a.poisson_ratio.powi(2)) / a.youngs_modulus
-                    + (1.0 - b.poisson_ratio.powi(2)) / b.youngs_modulus),
-            effective_shear_modulus: 1.0
-                / ((2.0 - a.poisson_ratio) / a.shear_modulus()
-                    + (2.0 - b.poisson_ratio) / b.shear_modulus()),
+            effective_modulus: 1.0 / ((1.0 - a.poisson_ratio.powi(2)) / a.youngs_modulus + (1.0 - b.poisson_ratio.powi(2)) / b.youngs_modulus),
+            effective_shear_modulus: 1.0 / ((2.0 - a.poisson_ratio) / a.shear_modulus() + (2.0 - b.poisson_ratio) / b.shear_modulus()),
         })
     }
 
     /// Sphere on a wall of material `wall` (fluid-dem-model.md §7.4: R* = r_p, M* = m_p).
-    pub fn sphere_wall(
-        particle: &ElasticMaterial,
-        radius: f64,
-        wall: &ElasticMaterial,
-    ) -> Result<Self> {
+    pub fn sphere_wall(particle: &ElasticMaterial, radius: f64, wall: &ElasticMaterial) -> Result<Self> {
         positive("radius", radius)?;
         let mut pair = Self::sphere_rigid_wall(particle, radius)?;
-        pair.effective_modulus = 1.0
-            / ((1.0 - particle.poisson_ratio.powi(2)) / particle.youngs_modulus
-                + (1.0 - wall.poisson_ratio.powi(2)) / wall.youngs_modulus);
-        pair.effective_shear_modulus = 1.0
-            / ((2.0 - particle.poisson_ratio) / particle.shear_modulus()
-                + (2.0 - wall.poisson_ratio) / wall.shear_modulus());
+        pair.effective_modulus =
+            1.0 / ((1.0 - particle.poisson_ratio.powi(2)) / particle.youngs_modulus + (1.0 - wall.poisson_ratio.powi(2)) / wall.youngs_modulus);
+        pair.effective_shear_modulus = 1.0 / ((2.0 - particle.poisson_ratio) / particle.shear_modulus() + (2.0 - wall.poisson_ratio) / wall.shear_modulus());
         Ok(pair)
     }
 
@@ -221,13 +195,7 @@ pub fn linear_restitution(damping_ratio: f64) -> Result<f64> {
 pub fn linear_contact_time(mass: f64, stiffness: f64, damping_ratio: f64) -> Result<f64> {
     positive("mass", mass)?;
     positive("stiffness", stiffness)?;
-    in_closed(
-        "damping_ratio",
-        damping_ratio,
-        0.0,
-        1.0 - 1e-15,
-        "in [0, 1)",
-    )?;
+    in_closed("damping_ratio", damping_ratio, 0.0, 1.0 - 1e-15, "in [0, 1)")?;
     Ok(std::f64::consts::PI / ((stiffness / mass).sqrt() * (1.0 - damping_ratio.powi(2)).sqrt()))
 }
 
@@ -259,20 +227,10 @@ pub fn simulate_hertz_impact(
     steps_per_contact: usize,
     clip_attractive: bool,
 ) -> Result<ImpactSimulation> {
-    in_closed(
-        "damping_coefficient",
-        damping_coefficient,
-        0.0,
-        5f64.sqrt(),
-        "in [0, sqrt(5)]",
-    )?;
+    in_closed("damping_coefficient", damping_coefficient, 0.0, 5f64.sqrt(), "in [0, sqrt(5)]")?;
     positive("speed", speed)?;
     if steps_per_contact < 10 {
-        return Err(crate::error::AnalyticError::OutOfRange {
-            name: "steps_per_contact",
-            value: steps_per_contact as f64,
-            allowed: ">= 10",
-        });
+        return Err(crate::error::AnalyticError::OutOfRange { name: "steps_per_contact", value: steps_per_contact as f64, allowed: ">= 10" });
     }
     let (m, k) = (pair.effective_mass, pair.normal_stiffness());
     let damping = damping_coefficient * (m * k).sqrt();
@@ -289,20 +247,8 @@ pub fn simulate_hertz_impact(
     };
     let undamped = pair.elastic_impact(speed)?.contact_time;
     let h = undamped / steps_per_contact as f64;
-    let hit = rk4_until_event(
-        &rhs,
-        0.0,
-        [0.0, speed],
-        h,
-        100.0 * undamped,
-        |y| y[0],
-        |y| y[0],
-    )?;
-    Ok(ImpactSimulation {
-        restitution: -hit.state[1] / speed,
-        contact_time: hit.time,
-        max_overlap: hit.watch_max,
-    })
+    let hit = rk4_until_event(&rhs, 0.0, [0.0, speed], h, 100.0 * undamped, |y| y[0], |y| y[0])?;
+    Ok(ImpactSimulation { restitution: -hit.state[1] / speed, contact_time: hit.time, max_overlap: hit.watch_max })
 }
 
 #[cfg(test)]
@@ -351,10 +297,7 @@ mod tests {
         let e_star = |e: f64| e / (2.0 * (1.0 - 0.23f64.powi(2)));
         let t60 = collision_time(c, 2540.0, e_star(60e9), 5e-3, 1.0).unwrap();
         let t10 = collision_time(c, 2540.0, e_star(10e6), 5e-3, 1.0).unwrap();
-        assert!(
-            rel(t60, 3.939e-5) < 1e-3 && rel(t10, 1.278e-3) < 1e-3,
-            "{t60} {t10}"
-        );
+        assert!(rel(t60, 3.939e-5) < 1e-3 && rel(t10, 1.278e-3) < 1e-3, "{t60} {t10}");
         // Check 22: (60 GPa / 10 MPa)^(2/5) = 32.453 (thesis "32 times").
         assert!((t10 / t60 - 32.453).abs() < 1e-3);
         // Tab. 8.4: model→prototype with Froude-scaled speed (λ = 4, u ∝ √λ) scales t_col by
@@ -362,24 +305,13 @@ mod tests {
         let tm = collision_time(c, 2650.0, 1e9, 0.01, 2.0).unwrap();
         let tp = collision_time(c, 2650.0, 1e9, 0.04, 4.0).unwrap();
         assert!((tp / tm - 4f64.powf(0.9)).abs() < 1e-12);
-        assert!(
-            (tp / tm - 1.7e-4 / 4.9e-5).abs() < 0.05 && (tp / tm - 5.5e-3 / 1.6e-3).abs() < 0.05
-        );
+        assert!((tp / tm - 1.7e-4 / 4.9e-5).abs() < 0.05 && (tp / tm - 5.5e-3 / 1.6e-3).abs() < 0.05);
     }
 
     #[test]
     fn damping_coefficients_match_spec() {
         // particle-verification.md §8 check 17 and U-26 (printed to 6 decimals).
-        let cases = [
-            (1.0, 0.0),
-            (0.97, 0.021679),
-            (0.95, 0.036504),
-            (0.9, 0.074950),
-            (0.82, 0.140969),
-            (0.8, 0.158426),
-            (0.5, 0.481769),
-            (0.1, 1.321863),
-        ];
+        let cases = [(1.0, 0.0), (0.97, 0.021679), (0.95, 0.036504), (0.9, 0.074950), (0.82, 0.140969), (0.8, 0.158426), (0.5, 0.481769), (0.1, 1.321863)];
         for (e, alpha) in cases {
             let got = hertz_damping_coefficient(e).unwrap();
             assert!((got - alpha).abs() < 5e-7, "e={e}: {got}");
@@ -399,16 +331,7 @@ mod tests {
             assert!((linear_restitution(zeta).unwrap() - e).abs() < 1e-14);
             let rhs = move |_t: f64, y: &[f64; 2]| [y[1], -(k * y[0] + c * y[1]) / m];
             let t_exact = linear_contact_time(m, k, zeta).unwrap();
-            let hit = rk4_until_event(
-                &rhs,
-                0.0,
-                [0.0, 1.0],
-                t_exact / 5000.0,
-                1.0,
-                |y| y[0],
-                |y| y[0],
-            )
-            .unwrap();
+            let hit = rk4_until_event(&rhs, 0.0, [0.0, 1.0], t_exact / 5000.0, 1.0, |y| y[0], |y| y[0]).unwrap();
             assert!((-hit.state[1] - e).abs() < 1e-10, "e={e}");
             assert!(rel(hit.time, t_exact) < 1e-10);
         }
@@ -425,23 +348,11 @@ mod tests {
         assert!((sim.restitution - 1.0).abs() < 1e-8);
         assert!(rel(sim.contact_time, exact.contact_time) < 1e-7);
         assert!(rel(sim.max_overlap, exact.max_overlap) < 1e-7);
-        assert!(
-            rel(
-                exact.max_force,
-                pair.normal_stiffness() * exact.max_overlap.powf(1.5)
-            ) < 1e-15
-        );
+        assert!(rel(exact.max_force, pair.normal_stiffness() * exact.max_overlap.powf(1.5)) < 1e-15);
         // Contact time in the Eq. 3.105 form gives the exact constant for a rigid-wall sphere.
         let rigid = ContactPair::sphere_rigid_wall(&glass(), 5e-3).unwrap();
         let t = rigid.elastic_impact(0.5).unwrap().contact_time;
-        let t_formula = collision_time(
-            exact_collision_constant(),
-            2540.0,
-            rigid.effective_modulus,
-            5e-3,
-            0.5,
-        )
-        .unwrap();
+        let t_formula = collision_time(exact_collision_constant(), 2540.0, rigid.effective_modulus, 5e-3, 0.5).unwrap();
         assert!(rel(t, t_formula) < 1e-12);
     }
 
@@ -452,41 +363,22 @@ mod tests {
         let scale = (particle.density / pair.effective_modulus).powf(0.4) * 5e-3;
         // particle-verification.md §8 check 18: unclipped model returns ε exactly (1e-4 tolerance
         // with ≥ 1000 steps); the clipped variant returns the printed larger values.
-        let clipped = [
-            (0.97, 0.9702),
-            (0.9, 0.9020),
-            (0.7, 0.7182),
-            (0.5, 0.5503),
-            (0.3, 0.3971),
-            (0.1, 0.2527),
-        ];
+        let clipped = [(0.97, 0.9702), (0.9, 0.9020), (0.7, 0.7182), (0.5, 0.5503), (0.3, 0.3971), (0.1, 0.2527)];
         for (e, e_clipped) in clipped {
             let alpha = hertz_damping_coefficient(e).unwrap();
             for speed in [0.01, 1.0] {
                 let sim = simulate_hertz_impact(&pair, alpha, speed, 4000, false).unwrap();
-                assert!(
-                    (sim.restitution - e).abs() < 1e-4,
-                    "e={e}, u={speed}: {}",
-                    sim.restitution
-                );
+                assert!((sim.restitution - e).abs() < 1e-4, "e={e}, u={speed}: {}", sim.restitution);
             }
             let sim = simulate_hertz_impact(&pair, alpha, 1.0, 4000, true).unwrap();
-            assert!(
-                (sim.restitution - e_clipped).abs() < 1e-4,
-                "clipped e={e}: {}",
-                sim.restitution
-            );
+            assert!((sim.restitution - e_clipped).abs() < 1e-4, "clipped e={e}: {}", sim.restitution);
         }
         // U-27: the contact-time constant rises with damping: 5.10 (0.97), 5.14 (0.9), 5.56 (0.5),
         // 7.69 (0.1), printed to 3 significant digits.
         for (e, constant) in [(0.97, 5.10), (0.9, 5.14), (0.5, 5.56), (0.1, 7.69)] {
             let alpha = hertz_damping_coefficient(e).unwrap();
             let sim = simulate_hertz_impact(&pair, alpha, 1.0, 4000, false).unwrap();
-            assert!(
-                (sim.contact_time / scale - constant).abs() < 0.006,
-                "e={e}: {}",
-                sim.contact_time / scale
-            );
+            assert!((sim.contact_time / scale - constant).abs() < 0.006, "e={e}: {}", sim.contact_time / scale);
         }
     }
 }

@@ -45,25 +45,12 @@ pub fn richardson_zaki_exponent(reynolds: f64, diameter_ratio: f64) -> Result<f6
 }
 
 /// Richardson–Zaki hindered terminal velocity u = 10^(−d/D) (1 − α_p)^n u_t0 (Eq. 3.47).
-pub fn richardson_zaki_velocity(
-    single_particle_velocity: f64,
-    particle_fraction: f64,
-    exponent: f64,
-    diameter_ratio: f64,
-) -> Result<f64> {
+pub fn richardson_zaki_velocity(single_particle_velocity: f64, particle_fraction: f64, exponent: f64, diameter_ratio: f64) -> Result<f64> {
     non_negative("single_particle_velocity", single_particle_velocity)?;
-    in_closed(
-        "particle_fraction",
-        particle_fraction,
-        0.0,
-        1.0,
-        "in [0, 1)",
-    )?;
+    in_closed("particle_fraction", particle_fraction, 0.0, 1.0, "in [0, 1)")?;
     positive("exponent", exponent)?;
     in_closed("diameter_ratio", diameter_ratio, 0.0, 1.0, "d/D in [0, 1]")?;
-    Ok(10f64.powf(-diameter_ratio)
-        * (1.0 - particle_fraction).powf(exponent)
-        * single_particle_velocity)
+    Ok(10f64.powf(-diameter_ratio) * (1.0 - particle_fraction).powf(exponent) * single_particle_velocity)
 }
 
 /// Di Felice (1994) exponent β = 3.7 − 0.65 exp(−(1.5 − log₁₀ Re_p)²/2) (Eq. 3.58).
@@ -84,18 +71,8 @@ pub enum DiFeliceForm {
 
 /// Di Felice drag factor F_d/F_d,0 at fluid fraction α_c and particle Reynolds number Re_p
 /// (Eqs. 3.56–3.62).
-pub fn di_felice_drag_factor(
-    fluid_fraction: f64,
-    particle_reynolds: f64,
-    form: DiFeliceForm,
-) -> Result<f64> {
-    in_closed(
-        "fluid_fraction",
-        fluid_fraction,
-        f64::MIN_POSITIVE,
-        1.0,
-        "in (0, 1]",
-    )?;
+pub fn di_felice_drag_factor(fluid_fraction: f64, particle_reynolds: f64, form: DiFeliceForm) -> Result<f64> {
+    in_closed("fluid_fraction", fluid_fraction, f64::MIN_POSITIVE, 1.0, "in (0, 1]")?;
     let beta = di_felice_exponent(particle_reynolds)?;
     Ok(match form {
         DiFeliceForm::FluidPressure => fluid_fraction.powf(1.0 - beta),
@@ -127,18 +104,8 @@ pub struct HinderedSettling {
 
 /// Steady settling velocity of a uniform suspension with particle fraction `particle_fraction`
 /// (particle-verification.md §4, §8 check 8). Uses Brown–Lawler drag as the thesis does.
-pub fn cloud_settling_velocity(
-    sphere: &SettlingSphere,
-    particle_fraction: f64,
-    reconstruction: CloudReconstruction,
-) -> Result<HinderedSettling> {
-    in_open(
-        "particle_fraction",
-        particle_fraction,
-        -f64::MIN_POSITIVE,
-        1.0,
-        "in [0, 1)",
-    )?;
+pub fn cloud_settling_velocity(sphere: &SettlingSphere, particle_fraction: f64, reconstruction: CloudReconstruction) -> Result<HinderedSettling> {
+    in_open("particle_fraction", particle_fraction, -f64::MIN_POSITIVE, 1.0, "in [0, 1)")?;
     let alpha_c = 1.0 - particle_fraction;
     let weight = sphere.submerged_weight();
     let drag0 = |u: f64| sphere.drag_force(DragLaw::BrownLawler, u);
@@ -159,46 +126,19 @@ pub fn cloud_settling_velocity(
     };
     let guess = sphere.terminal_velocity(DragLaw::BrownLawler)?.velocity;
     let lower = guess * 1e-9;
-    let (lo, hi) = expand_upper(
-        "hindered settling force balance",
-        residual,
-        lower,
-        guess,
-        1.5,
-        100,
-    )?;
-    let u = brent(
-        "hindered settling force balance",
-        residual,
-        lo,
-        hi,
-        1e-15 * hi,
-    )?;
+    let (lo, hi) = expand_upper("hindered settling force balance", residual, lower, guess, 1.5, 100)?;
+    let u = brent("hindered settling force balance", residual, lo, hi, 1e-15 * hi)?;
     let (particle_velocity, slip_velocity, re_p) = match reconstruction {
         CloudReconstruction::SlipVelocity => (alpha_c * u, u, alpha_c * u * d_over_nu),
         CloudReconstruction::ParticleVelocity => (u, u / alpha_c, u * d_over_nu),
     };
-    Ok(HinderedSettling {
-        particle_fraction,
-        particle_velocity,
-        slip_velocity,
-        di_felice_exponent: di_felice_exponent(re_p)?,
-    })
+    Ok(HinderedSettling { particle_fraction, particle_velocity, slip_velocity, di_felice_exponent: di_felice_exponent(re_p)? })
 }
 
 /// Batch-settling volume balance (Eqs. 3.49–3.53): fluid velocity u_c = −(1−α_c)/α_c u_p and
 /// slip u_s = u_c − u_p = −u_p/α_c, for particle velocity `particle_velocity`.
-pub fn batch_settling_fluid_and_slip(
-    particle_velocity: f64,
-    fluid_fraction: f64,
-) -> Result<(f64, f64)> {
-    in_closed(
-        "fluid_fraction",
-        fluid_fraction,
-        f64::MIN_POSITIVE,
-        1.0,
-        "in (0, 1]",
-    )?;
+pub fn batch_settling_fluid_and_slip(particle_velocity: f64, fluid_fraction: f64) -> Result<(f64, f64)> {
+    in_closed("fluid_fraction", fluid_fraction, f64::MIN_POSITIVE, 1.0, "in (0, 1]")?;
     let u_c = -(1.0 - fluid_fraction) / fluid_fraction * particle_velocity;
     Ok((u_c, u_c - particle_velocity))
 }
@@ -211,13 +151,7 @@ mod tests {
     fn rowe_exponent_matches_spec() {
         // particle-verification.md §8 check 5 and fluid-dem-model.md U-05.
         assert_eq!(rowe_exponent(0.0).unwrap(), 4.7);
-        let cases = [
-            (1.0, 4.348936),
-            (10.0, 3.53087),
-            (100.0, 2.703608),
-            (1000.0, 2.41624),
-            (7332.78, 2.359733),
-        ];
+        let cases = [(1.0, 4.348936), (10.0, 3.53087), (100.0, 2.703608), (1000.0, 2.41624), (7332.78, 2.359733)];
         for (re, n) in cases {
             assert!((rowe_exponent(re).unwrap() - n).abs() < 6e-6, "Re={re}");
         }
@@ -240,13 +174,7 @@ mod tests {
     #[test]
     fn richardson_zaki_velocities_match_spec() {
         // particle-verification.md §8 check 7: u_t0 = 0.73577, n = 2.359733.
-        let expected = [
-            (0.027, 0.6898),
-            (0.05, 0.6519),
-            (0.1, 0.5738),
-            (0.208, 0.4244),
-            (0.308, 0.3086),
-        ];
+        let expected = [(0.027, 0.6898), (0.05, 0.6519), (0.1, 0.5738), (0.208, 0.4244), (0.308, 0.3086)];
         for (phi, u) in expected {
             let got = richardson_zaki_velocity(0.73577, phi, 2.359733, 0.0).unwrap();
             assert!((got - u).abs() < 1e-4, "phi={phi}: {got}");
@@ -257,24 +185,11 @@ mod tests {
     fn di_felice_exponent_matches_spec() {
         // particle-verification.md §8 check 6 and fluid-dem-model.md U-04.
         assert!((di_felice_exponent(10f64.powf(1.5)).unwrap() - 3.05).abs() < 1e-12);
-        for (re, beta) in [
-            (1.0, 3.488976),
-            (1000.0, 3.488976),
-            (10.0, 3.126377),
-            (100.0, 3.126377),
-            (7332.78, 3.660365),
-            (7000.0, 3.65844),
-        ] {
-            assert!(
-                (di_felice_exponent(re).unwrap() - beta).abs() < 6e-6,
-                "Re={re}"
-            );
+        for (re, beta) in [(1.0, 3.488976), (1000.0, 3.488976), (10.0, 3.126377), (100.0, 3.126377), (7332.78, 3.660365), (7000.0, 3.65844)] {
+            assert!((di_felice_exponent(re).unwrap() - beta).abs() < 6e-6, "Re={re}");
         }
         // U-06: the factor is 1 without particles; the two forms differ by α_c (Eq. 3.61).
-        assert_eq!(
-            di_felice_drag_factor(1.0, 50.0, DiFeliceForm::FluidPressure).unwrap(),
-            1.0
-        );
+        assert_eq!(di_felice_drag_factor(1.0, 50.0, DiFeliceForm::FluidPressure).unwrap(), 1.0);
         let fluid = di_felice_drag_factor(0.8, 50.0, DiFeliceForm::FluidPressure).unwrap();
         let mixture = di_felice_drag_factor(0.8, 50.0, DiFeliceForm::MixturePressure).unwrap();
         assert!((mixture / fluid - 0.8).abs() < 1e-14);
@@ -294,39 +209,20 @@ mod tests {
             (0.308, 0.319, 0.3187, 0.3182),
         ];
         for (phi, thesis, a, b) in table {
-            let got_a =
-                cloud_settling_velocity(&sphere, phi, CloudReconstruction::SlipVelocity).unwrap();
-            let got_b =
-                cloud_settling_velocity(&sphere, phi, CloudReconstruction::ParticleVelocity)
-                    .unwrap();
+            let got_a = cloud_settling_velocity(&sphere, phi, CloudReconstruction::SlipVelocity).unwrap();
+            let got_b = cloud_settling_velocity(&sphere, phi, CloudReconstruction::ParticleVelocity).unwrap();
             // The spec's bound: "(A) is within 0.0015 m/s (≤ 0.3 %) of Table 6.3".
             let deviation = (got_a.particle_velocity - thesis).abs();
-            assert!(
-                deviation <= 0.0015,
-                "phi={phi}: {} vs {thesis}",
-                got_a.particle_velocity
-            );
-            assert!(
-                deviation / thesis < 3.5e-3,
-                "phi={phi}: the spec rounds 0.306 % to 0.3 %"
-            );
-            assert!(
-                (got_a.particle_velocity - a).abs() < 5e-5,
-                "(A) phi={phi}: {}",
-                got_a.particle_velocity
-            );
-            assert!(
-                (got_b.particle_velocity - b).abs() < 5e-5,
-                "(B) phi={phi}: {}",
-                got_b.particle_velocity
-            );
+            assert!(deviation <= 0.0015, "phi={phi}: {} vs {thesis}", got_a.particle_velocity);
+            assert!(deviation / thesis < 3.5e-3, "phi={phi}: the spec rounds 0.306 % to 0.3 %");
+            assert!((got_a.particle_velocity - a).abs() < 5e-5, "(A) phi={phi}: {}", got_a.particle_velocity);
+            assert!((got_b.particle_velocity - b).abs() < 5e-5, "(B) phi={phi}: {}", got_b.particle_velocity);
         }
         // (A) slip speeds of the spec table: 0.7104 at 0.027, 0.4605 at 0.308.
         let s = cloud_settling_velocity(&sphere, 0.027, CloudReconstruction::SlipVelocity).unwrap();
         assert!((s.slip_velocity - 0.7104).abs() < 5e-5);
         // α_p = 0 returns the single-particle terminal velocity 0.736 (Table 6.3 first column).
-        let zero =
-            cloud_settling_velocity(&sphere, 0.0, CloudReconstruction::SlipVelocity).unwrap();
+        let zero = cloud_settling_velocity(&sphere, 0.0, CloudReconstruction::SlipVelocity).unwrap();
         assert!((zero.particle_velocity - 0.73577).abs() < 5e-6);
     }
 
@@ -335,11 +231,6 @@ mod tests {
         // U-07: u_p = −α_c u_s.
         let (u_c, u_s) = batch_settling_fluid_and_slip(-0.5, 0.8).unwrap();
         assert!((u_c - 0.125).abs() < 1e-15 && (-0.5 - (-0.8 * u_s)).abs() < 1e-15);
-        assert!(cloud_settling_velocity(
-            &SettlingSphere::case_p1(),
-            1.0,
-            CloudReconstruction::SlipVelocity
-        )
-        .is_err());
+        assert!(cloud_settling_velocity(&SettlingSphere::case_p1(), 1.0, CloudReconstruction::SlipVelocity).is_err());
     }
 }

@@ -41,34 +41,12 @@ pub struct WaltonRebound {
 
 impl WaltonModel {
     /// Validates μ_f ≥ 0, ε_n in [0, 1], ε_t in [−1, 1], K₀ > 0.
-    pub fn new(
-        friction: f64,
-        normal_restitution: f64,
-        tangential_restitution: f64,
-        inertia_factor: f64,
-    ) -> Result<Self> {
+    pub fn new(friction: f64, normal_restitution: f64, tangential_restitution: f64, inertia_factor: f64) -> Result<Self> {
         non_negative("friction", friction)?;
-        in_closed(
-            "normal_restitution",
-            normal_restitution,
-            0.0,
-            1.0,
-            "in [0, 1]",
-        )?;
-        in_closed(
-            "tangential_restitution",
-            tangential_restitution,
-            -1.0,
-            1.0,
-            "in [-1, 1]",
-        )?;
+        in_closed("normal_restitution", normal_restitution, 0.0, 1.0, "in [0, 1]")?;
+        in_closed("tangential_restitution", tangential_restitution, -1.0, 1.0, "in [-1, 1]")?;
         positive("inertia_factor", inertia_factor)?;
-        Ok(Self {
-            friction,
-            normal_restitution,
-            tangential_restitution,
-            inertia_factor,
-        })
+        Ok(Self { friction, normal_restitution, tangential_restitution, inertia_factor })
     }
 
     /// Slip-branch offset μ_f (1 + ε_n)(1 + 1/K₀) (Eq. 2.13; 3.5 μ_f (1 + ε_n) for a sphere).
@@ -85,34 +63,17 @@ impl WaltonModel {
     pub fn rebound(&self, psi_in: f64) -> Result<WaltonRebound> {
         non_negative("psi_in", psi_in)?;
         Ok(if psi_in <= self.critical_psi() {
-            WaltonRebound {
-                psi_out: -self.tangential_restitution * psi_in,
-                regime: ImpactRegime::Stick,
-            }
+            WaltonRebound { psi_out: -self.tangential_restitution * psi_in, regime: ImpactRegime::Stick }
         } else {
-            WaltonRebound {
-                psi_out: psi_in - self.slip_offset(),
-                regime: ImpactRegime::Slip,
-            }
+            WaltonRebound { psi_out: psi_in - self.slip_offset(), regime: ImpactRegime::Slip }
         })
     }
 }
 
 /// Friction coefficient backed out of a slip-regime rebound, μ_f = (Ψ_in − Ψ_out)/((1 + ε_n)(1 + 1/K₀))
 /// (Eq. 2.15: (2/7)(Ψ_in − Ψ_out)/(1 + ε_n) for a solid sphere).
-pub fn friction_from_rebound(
-    psi_in: f64,
-    psi_out: f64,
-    normal_restitution: f64,
-    inertia_factor: f64,
-) -> Result<f64> {
-    in_closed(
-        "normal_restitution",
-        normal_restitution,
-        0.0,
-        1.0,
-        "in [0, 1]",
-    )?;
+pub fn friction_from_rebound(psi_in: f64, psi_out: f64, normal_restitution: f64, inertia_factor: f64) -> Result<f64> {
+    in_closed("normal_restitution", normal_restitution, 0.0, 1.0, "in [0, 1]")?;
     positive("inertia_factor", inertia_factor)?;
     Ok((psi_in - psi_out) / ((1.0 + normal_restitution) * (1.0 + 1.0 / inertia_factor)))
 }
@@ -120,11 +81,7 @@ pub fn friction_from_rebound(
 /// Tangential restitution backed out of a stick-regime rebound, ε_t = −Ψ_out/Ψ_in (Eq. 2.15).
 pub fn tangential_restitution_from_rebound(psi_in: f64, psi_out: f64) -> Result<f64> {
     if !(psi_in.is_finite() && psi_in != 0.0) {
-        return Err(AnalyticError::OutOfRange {
-            name: "psi_in",
-            value: psi_in,
-            allowed: "finite and non-zero",
-        });
+        return Err(AnalyticError::OutOfRange { name: "psi_in", value: psi_in, allowed: "finite and non-zero" });
     }
     Ok(-psi_out / psi_in)
 }
@@ -151,12 +108,7 @@ impl SphereRebound {
 /// tangential centre velocity u_t and contact-point spin velocity ω r. Normal impulse
 /// J_n = m (1 + ε_n) u_n; the tangential impulse is the one that would bring the contact point to
 /// −ε_t times its incoming velocity, capped by Coulomb μ_f J_n.
-pub fn sphere_wall_rebound(
-    model: &WaltonModel,
-    normal_speed: f64,
-    tangential_velocity: f64,
-    contact_spin_velocity: f64,
-) -> Result<SphereRebound> {
+pub fn sphere_wall_rebound(model: &WaltonModel, normal_speed: f64, tangential_velocity: f64, contact_spin_velocity: f64) -> Result<SphereRebound> {
     positive("normal_speed", normal_speed)?;
     let mobility = 1.0 + 1.0 / model.inertia_factor; // contact-point Δv per unit J_t/m
     let contact_in = tangential_velocity + contact_spin_velocity;
@@ -200,9 +152,7 @@ mod tests {
         assert!((friction_from_rebound(3.0, slip.psi_out, 0.8, 0.4).unwrap() - 0.1).abs() < 1e-14);
         let stick = model.rebound(0.2).unwrap();
         assert_eq!(stick.regime, ImpactRegime::Stick);
-        assert!(
-            (tangential_restitution_from_rebound(0.2, stick.psi_out).unwrap() - 0.4).abs() < 1e-14
-        );
+        assert!((tangential_restitution_from_rebound(0.2, stick.psi_out).unwrap() - 0.4).abs() < 1e-14);
     }
 
     #[test]
@@ -211,18 +161,12 @@ mod tests {
         let critical = model.critical_psi();
         let below = model.rebound(critical).unwrap().psi_out;
         let above = model.rebound(critical * (1.0 + 1e-12)).unwrap().psi_out;
-        assert!(
-            (below - above).abs() < 1e-10,
-            "Eq. 2.13 is continuous at Ψ*"
-        );
+        assert!((below - above).abs() < 1e-10, "Eq. 2.13 is continuous at Ψ*");
         // Independent impulse derivation for a non-spinning sphere: Ψ_out = contact velocity out / u_n.
         for psi_in in [0.05, 0.3, critical, 1.0, 2.1445] {
             let rebound = sphere_wall_rebound(&model, 0.37, psi_in * 0.37, 0.0).unwrap();
             let psi_out = rebound.contact_velocity() / 0.37;
-            assert!(
-                (psi_out - model.rebound(psi_in).unwrap().psi_out).abs() < 1e-12,
-                "Ψ_in={psi_in}"
-            );
+            assert!((psi_out - model.rebound(psi_in).unwrap().psi_out).abs() < 1e-12, "Ψ_in={psi_in}");
             assert!((rebound.normal_speed - 0.88 * 0.37).abs() < 1e-15);
         }
         // Backspin: in stick with ε_t > 0 the contact point reverses (Ψ_out < 0), as in Fig. 7.7.

@@ -14,12 +14,7 @@ fn axpy<const N: usize>(y: &[f64; N], h: f64, k: &[f64; N]) -> [f64; N] {
 }
 
 /// One classical fourth-order Runge–Kutta step of size `h`.
-pub fn rk4_step<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
-    f: &F,
-    t: f64,
-    y: &[f64; N],
-    h: f64,
-) -> [f64; N] {
+pub fn rk4_step<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(f: &F, t: f64, y: &[f64; N], h: f64) -> [f64; N] {
     let k1 = f(t, y);
     let k2 = f(t + 0.5 * h, &axpy(y, 0.5 * h, &k1));
     let k3 = f(t + 0.5 * h, &axpy(y, 0.5 * h, &k2));
@@ -44,15 +39,7 @@ pub struct EventHit<const N: usize> {
 /// positive to ≤ 0, then locates the crossing by bisection on the length of the last step
 /// (each trial redoes one RK4 step from the last accepted state, so the event time has the
 /// integrator's own accuracy). Fails if no event occurs before `t_max`.
-pub fn rk4_until_event<const N: usize, F, E, W>(
-    f: &F,
-    t0: f64,
-    y0: [f64; N],
-    h: f64,
-    t_max: f64,
-    event: E,
-    watch: W,
-) -> Result<EventHit<N>>
+pub fn rk4_until_event<const N: usize, F, E, W>(f: &F, t0: f64, y0: [f64; N], h: f64, t_max: f64, event: E, watch: W) -> Result<EventHit<N>>
 where
     F: Fn(f64, &[f64; N]) -> [f64; N],
     E: Fn(&[f64; N]) -> f64,
@@ -80,21 +67,13 @@ where
             let step = 0.5 * (lo + hi);
             let state = rk4_step(f, t, &y, step);
             watch_max = watch_max.max(watch(&state));
-            return Ok(EventHit {
-                time: t + step,
-                state,
-                watch_max,
-            });
+            return Ok(EventHit { time: t + step, state, watch_max });
         }
         y = next;
         t += h;
         watch_max = watch_max.max(watch(&y));
     }
-    Err(AnalyticError::NoConvergence {
-        what: "RK4 event search (event not reached before t_max)",
-        iterations: max_steps,
-        residual: event(&y),
-    })
+    Err(AnalyticError::NoConvergence { what: "RK4 event search (event not reached before t_max)", iterations: max_steps, residual: event(&y) })
 }
 
 // Dormand–Prince 5(4) tableau.
@@ -157,20 +136,13 @@ pub fn dopri_at_times<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
     let mut previous = t0;
     for &target in times {
         if !(target >= previous) {
-            return Err(AnalyticError::Invalid {
-                what: "output times",
-                reason: format!("times must be ascending and >= t0; got {target} after {previous}"),
-            });
+            return Err(AnalyticError::Invalid { what: "output times", reason: format!("times must be ascending and >= t0; got {target} after {previous}") });
         }
         previous = target;
         while t < target {
             steps += 1;
             if steps > MAX_STEPS {
-                return Err(AnalyticError::NoConvergence {
-                    what: "Dormand–Prince integration",
-                    iterations: MAX_STEPS,
-                    residual: target - t,
-                });
+                return Err(AnalyticError::NoConvergence { what: "Dormand–Prince integration", iterations: MAX_STEPS, residual: target - t });
             }
             let step = h.min(target - t);
             let k1 = f(t, &y);
@@ -192,22 +164,18 @@ pub fn dopri_at_times<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
             }
             let k5 = f(t + C5 * step, &s);
             for i in 0..N {
-                s[i] = y[i]
-                    + step * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+                s[i] = y[i] + step * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
             }
             let k6 = f(t + step, &s);
             let mut y_new = [0.0; N];
             for i in 0..N {
-                y_new[i] =
-                    y[i] + step * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
+                y_new[i] = y[i] + step * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
             }
             let k7 = f(t + step, &y_new);
             let mut error_norm = 0.0f64;
             for i in 0..N {
-                let err = step
-                    * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
-                let scale =
-                    tolerance.absolute + tolerance.relative * y[i].abs().max(y_new[i].abs());
+                let err = step * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+                let scale = tolerance.absolute + tolerance.relative * y[i].abs().max(y_new[i].abs());
                 error_norm = error_norm.max((err / scale).abs());
             }
             if !error_norm.is_finite() {
@@ -218,11 +186,7 @@ pub fn dopri_at_times<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
                 t += step;
                 y = y_new;
             }
-            let factor = if error_norm == 0.0 {
-                5.0
-            } else {
-                0.9 * error_norm.powf(-0.2)
-            };
+            let factor = if error_norm == 0.0 { 5.0 } else { 0.9 * error_norm.powf(-0.2) };
             h = step * factor.clamp(0.2, 5.0);
         }
         out.push(y);
@@ -254,19 +218,11 @@ mod tests {
     fn dopri_hits_output_times_of_harmonic_oscillator() {
         let f = |_t: f64, y: &[f64; 2]| [y[1], -y[0]];
         let times = [0.5, 1.0, 10.0];
-        let tol = Tolerance {
-            relative: 1e-12,
-            absolute: 1e-14,
-        };
+        let tol = Tolerance { relative: 1e-12, absolute: 1e-14 };
         let states = dopri_at_times(&f, 0.0, [1.0, 0.0], &times, tol).unwrap();
         for (t, y) in times.iter().zip(states.iter()) {
             // Global error accumulates over ~10 periods of steps at 1e-12 local tolerance.
-            assert!(
-                (y[0] - t.cos()).abs() < 1e-10,
-                "t={t}: {} vs {}",
-                y[0],
-                t.cos()
-            );
+            assert!((y[0] - t.cos()).abs() < 1e-10, "t={t}: {} vs {}", y[0], t.cos());
             assert!((y[1] + t.sin()).abs() < 1e-10);
         }
     }
@@ -284,10 +240,7 @@ mod tests {
     #[test]
     fn dopri_rejects_descending_times() {
         let f = |_t: f64, y: &[f64; 1]| [-y[0]];
-        let tol = Tolerance {
-            relative: 1e-8,
-            absolute: 1e-10,
-        };
+        let tol = Tolerance { relative: 1e-8, absolute: 1e-10 };
         assert!(dopri_at_times(&f, 0.0, [1.0], &[1.0, 0.5], tol).is_err());
     }
 }

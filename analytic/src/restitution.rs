@@ -26,29 +26,13 @@ pub fn stokes_number_with_added_mass(
     positive("diameter", diameter)?;
     positive("kinematic_viscosity", kinematic_viscosity)?;
     non_negative("added_mass_coefficient", added_mass_coefficient)?;
-    Ok(
-        (particle_density / fluid_density + added_mass_coefficient) * normal_speed * diameter
-            / (9.0 * kinematic_viscosity),
-    )
+    Ok((particle_density / fluid_density + added_mass_coefficient) * normal_speed * diameter / (9.0 * kinematic_viscosity))
 }
 
 /// Gondret/Joseph Stokes number without added mass, St = ρ_p u d/(9μ) = (ρ_p/ρ_f) Re/9
 /// (particle-verification.md §1.5: the one Table 7.1 reports, not the one Eq. 3.103 uses).
-pub fn stokes_number_without_added_mass(
-    particle_density: f64,
-    fluid_density: f64,
-    normal_speed: f64,
-    diameter: f64,
-    kinematic_viscosity: f64,
-) -> Result<f64> {
-    stokes_number_with_added_mass(
-        particle_density,
-        fluid_density,
-        normal_speed,
-        diameter,
-        kinematic_viscosity,
-        0.0,
-    )
+pub fn stokes_number_without_added_mass(particle_density: f64, fluid_density: f64, normal_speed: f64, diameter: f64, kinematic_viscosity: f64) -> Result<f64> {
+    stokes_number_with_added_mass(particle_density, fluid_density, normal_speed, diameter, kinematic_viscosity, 0.0)
 }
 
 /// Legendre wet restitution ε_wet = ε_dry exp(−35/St_AM) (Eq. 3.103). St = 0 gives 0 (the limit);
@@ -78,26 +62,16 @@ pub struct LubricationImpact {
 /// momentum gives v(h) = v₀ [1 − ln(h₀/h)/St]. The sphere touches with v₀(1 − L/St),
 /// L = ln(h₀/h_r), rebounds with ε_dry times that, and loses v₀ L/St again on the way out:
 /// ε = max(0, ε_dry (1 − L/St) − L/St); ε = 0 if St ≤ L (it stops before touching).
-pub fn lubrication_restitution(
-    dry_restitution: f64,
-    stokes: f64,
-    log_gap_ratio: f64,
-) -> Result<LubricationImpact> {
+pub fn lubrication_restitution(dry_restitution: f64, stokes: f64, log_gap_ratio: f64) -> Result<LubricationImpact> {
     in_closed("dry_restitution", dry_restitution, 0.0, 1.0, "in [0, 1]")?;
     non_negative("stokes", stokes)?;
     non_negative("log_gap_ratio", log_gap_ratio)?;
     if stokes <= log_gap_ratio {
-        return Ok(LubricationImpact {
-            contact_speed_ratio: 0.0,
-            restitution: 0.0,
-        });
+        return Ok(LubricationImpact { contact_speed_ratio: 0.0, restitution: 0.0 });
     }
     let loss = log_gap_ratio / stokes;
     let contact = 1.0 - loss;
-    Ok(LubricationImpact {
-        contact_speed_ratio: contact,
-        restitution: (dry_restitution * contact - loss).max(0.0),
-    })
+    Ok(LubricationImpact { contact_speed_ratio: contact, restitution: (dry_restitution * contact - loss).max(0.0) })
 }
 
 #[cfg(test)]
@@ -107,15 +81,7 @@ mod tests {
     #[test]
     fn legendre_ratio_matches_spec_at_several_stokes_numbers() {
         // particle-verification.md §8 check 15 (printed to 6 decimals).
-        let cases = [
-            (10.0, 0.030197),
-            (35.0, 0.367879),
-            (100.0, 0.704688),
-            (152.0, 0.794325),
-            (360.0, 0.907354),
-            (1000.0, 0.965605),
-            (1e4, 0.996506),
-        ];
+        let cases = [(10.0, 0.030197), (35.0, 0.367879), (100.0, 0.704688), (152.0, 0.794325), (360.0, 0.907354), (1000.0, 0.965605), (1e4, 0.996506)];
         for (st, ratio) in cases {
             let got = legendre_wet_restitution(1.0, st).unwrap();
             assert!((got - ratio).abs() < 5e-7, "St={st}: {got}");
@@ -133,8 +99,7 @@ mod tests {
     fn added_mass_stokes_numbers_match_spec() {
         // Check 16 / U-28: steel in silicone oil (Table 7.1): Re = 162.69, St_AM = 159.838,
         // ε_wet = 0.77924; St without added mass 150.8.
-        let st_am =
-            stokes_number_with_added_mass(7800.0, 935.0, 0.58, 3e-3, 1.06952e-5, 0.5).unwrap();
+        let st_am = stokes_number_with_added_mass(7800.0, 935.0, 0.58, 3e-3, 1.06952e-5, 0.5).unwrap();
         assert!((st_am - 159.838).abs() < 5e-4, "{st_am}");
         let re: f64 = 0.58 * 3e-3 / 1.06952e-5;
         assert!((re - 162.69).abs() < 5e-3);
@@ -142,14 +107,9 @@ mod tests {
         assert!((st - 150.8).abs() < 0.05);
         assert!((legendre_wet_restitution(0.97, st_am).unwrap() - 0.77924).abs() < 5e-6);
         // §5.3: raw C3 inputs give St_AM = 352.5 (glass) and 1050.0 (steel).
-        let glass =
-            stokes_number_with_added_mass(2540.0, 998.0, 0.37, 12.7e-3, 4.51e-6, 0.5).unwrap();
-        let steel =
-            stokes_number_with_added_mass(7780.0, 998.0, 0.27, 12.7e-3, 3.01e-6, 0.5).unwrap();
-        assert!(
-            (glass - 352.5).abs() < 0.05 && (steel - 1050.0).abs() < 0.05,
-            "{glass} {steel}"
-        );
+        let glass = stokes_number_with_added_mass(2540.0, 998.0, 0.37, 12.7e-3, 4.51e-6, 0.5).unwrap();
+        let steel = stokes_number_with_added_mass(7780.0, 998.0, 0.27, 12.7e-3, 3.01e-6, 0.5).unwrap();
+        assert!((glass - 352.5).abs() < 0.05 && (steel - 1050.0).abs() < 0.05, "{glass} {steel}");
         // §1.5: glass in water St_AM/St = (2.54 + 0.5)/2.54 = 1.197.
         let ratio = stokes_number_with_added_mass(2540.0, 1000.0, 1.0, 1e-3, 1e-6, 0.5).unwrap()
             / stokes_number_without_added_mass(2540.0, 1000.0, 1.0, 1e-3, 1e-6).unwrap();
@@ -165,69 +125,22 @@ mod tests {
         let (e_dry, st, hr): (f64, f64, f64) = (0.9, 30.0, 1e-2);
         let log_ratio = (1.0 / hr).ln();
         let approach = move |_t: f64, y: &[f64; 2]| [-y[1], -y[1] / (st * y[0])];
-        let hit = rk4_until_event(
-            &approach,
-            0.0,
-            [1.0, 1.0],
-            1e-5,
-            10.0,
-            |y| y[0] - hr,
-            |y| y[1],
-        )
-        .unwrap();
+        let hit = rk4_until_event(&approach, 0.0, [1.0, 1.0], 1e-5, 10.0, |y| y[0] - hr, |y| y[1]).unwrap();
         let contact = hit.state[1];
         let rebound = move |_t: f64, y: &[f64; 2]| [y[1], -y[1] / (st * y[0])];
-        let out = rk4_until_event(
-            &rebound,
-            0.0,
-            [hr, e_dry * contact],
-            1e-5,
-            10.0,
-            |y| 1.0 - y[0],
-            |y| y[1],
-        )
-        .unwrap();
+        let out = rk4_until_event(&rebound, 0.0, [hr, e_dry * contact], 1e-5, 10.0, |y| 1.0 - y[0], |y| y[1]).unwrap();
         let model = lubrication_restitution(e_dry, st, log_ratio).unwrap();
         // RK4 at Δt = 1e-5 with gap scales ≥ 1e-2: errors ~1e-12; event location to round-off.
-        assert!(
-            (model.contact_speed_ratio - contact).abs() < 1e-9,
-            "{contact}"
-        );
-        assert!(
-            (model.restitution - out.state[1]).abs() < 1e-9,
-            "{}",
-            out.state[1]
-        );
+        assert!((model.contact_speed_ratio - contact).abs() < 1e-9, "{contact}");
+        assert!((model.restitution - out.state[1]).abs() < 1e-9, "{}", out.state[1]);
         // Below St = L the sphere never touches; between L and L(1+ε)/ε it touches but cannot
         // escape the lubrication layer.
-        assert_eq!(
-            lubrication_restitution(e_dry, 0.9 * log_ratio, log_ratio)
-                .unwrap()
-                .restitution,
-            0.0
-        );
+        assert_eq!(lubrication_restitution(e_dry, 0.9 * log_ratio, log_ratio).unwrap().restitution, 0.0);
         let critical = log_ratio * (1.0 + e_dry) / e_dry;
-        assert_eq!(
-            lubrication_restitution(e_dry, 0.999 * critical, log_ratio)
-                .unwrap()
-                .restitution,
-            0.0
-        );
-        assert!(
-            lubrication_restitution(e_dry, 1.001 * critical, log_ratio)
-                .unwrap()
-                .restitution
-                > 0.0
-        );
+        assert_eq!(lubrication_restitution(e_dry, 0.999 * critical, log_ratio).unwrap().restitution, 0.0);
+        assert!(lubrication_restitution(e_dry, 1.001 * critical, log_ratio).unwrap().restitution > 0.0);
         // Large-St limit: ε → ε_dry.
-        assert!(
-            (lubrication_restitution(e_dry, 1e12, log_ratio)
-                .unwrap()
-                .restitution
-                - e_dry)
-                .abs()
-                < 1e-9
-        );
+        assert!((lubrication_restitution(e_dry, 1e12, log_ratio).unwrap().restitution - e_dry).abs() < 1e-9);
     }
 
     #[test]

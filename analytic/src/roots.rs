@@ -8,21 +8,12 @@ use crate::error::{AnalyticError, Result};
 /// Finds a root of `f` in `[lower, upper]` with Brent's method (bisection + secant + inverse
 /// quadratic interpolation). `f(lower)` and `f(upper)` must differ in sign (or one be zero).
 /// Converges when the bracket is narrower than `x_tolerance` (absolute) or `f` is exactly zero.
-pub fn brent<F: FnMut(f64) -> f64>(
-    what: &'static str,
-    mut f: F,
-    lower: f64,
-    upper: f64,
-    x_tolerance: f64,
-) -> Result<f64> {
+pub fn brent<F: FnMut(f64) -> f64>(what: &'static str, mut f: F, lower: f64, upper: f64, x_tolerance: f64) -> Result<f64> {
     const MAX_ITERATIONS: usize = 200;
     let (mut a, mut b) = (lower, upper);
     let (mut fa, mut fb) = (f(a), f(b));
     if !(fa.is_finite() && fb.is_finite()) {
-        return Err(AnalyticError::Invalid {
-            what,
-            reason: format!("function is not finite at the bracket ends ({fa}, {fb})"),
-        });
+        return Err(AnalyticError::Invalid { what, reason: format!("function is not finite at the bracket ends ({fa}, {fb})") });
     }
     if fa == 0.0 {
         return Ok(a);
@@ -90,29 +81,15 @@ pub fn brent<F: FnMut(f64) -> f64>(
         b += if d.abs() > tol { d } else { tol * m.signum() };
         fb = f(b);
         if !fb.is_finite() {
-            return Err(AnalyticError::Invalid {
-                what,
-                reason: format!("function is not finite at x = {b}"),
-            });
+            return Err(AnalyticError::Invalid { what, reason: format!("function is not finite at x = {b}") });
         }
     }
-    Err(AnalyticError::NoConvergence {
-        what,
-        iterations: MAX_ITERATIONS,
-        residual: fb,
-    })
+    Err(AnalyticError::NoConvergence { what, iterations: MAX_ITERATIONS, residual: fb })
 }
 
 /// Starting from `[lower, upper]`, multiplies `upper` by `factor` until `f` changes sign between
 /// `lower` and `upper` (at most `max_expansions` times). Returns the bracket.
-pub fn expand_upper<F: FnMut(f64) -> f64>(
-    what: &'static str,
-    mut f: F,
-    lower: f64,
-    mut upper: f64,
-    factor: f64,
-    max_expansions: usize,
-) -> Result<(f64, f64)> {
+pub fn expand_upper<F: FnMut(f64) -> f64>(what: &'static str, mut f: F, lower: f64, mut upper: f64, factor: f64, max_expansions: usize) -> Result<(f64, f64)> {
     let f_lower = f(lower);
     for _ in 0..=max_expansions {
         let f_upper = f(upper);

@@ -49,14 +49,7 @@ pub struct SettlingSample {
 
 impl SettlingSphere {
     /// Validates: d, ν, g > 0; densities > 0; ρ_p > ρ_f (the sphere must sink); C_AM ≥ 0.
-    pub fn new(
-        diameter: f64,
-        particle_density: f64,
-        fluid_density: f64,
-        kinematic_viscosity: f64,
-        gravity: f64,
-        added_mass_coefficient: f64,
-    ) -> Result<Self> {
+    pub fn new(diameter: f64, particle_density: f64, fluid_density: f64, kinematic_viscosity: f64, gravity: f64, added_mass_coefficient: f64) -> Result<Self> {
         positive("diameter", diameter)?;
         positive("particle_density", particle_density)?;
         positive("fluid_density", fluid_density)?;
@@ -70,14 +63,7 @@ impl SettlingSphere {
                 allowed: "greater than fluid_density (the sphere must sink)",
             });
         }
-        Ok(Self {
-            diameter,
-            particle_density,
-            fluid_density,
-            kinematic_viscosity,
-            gravity,
-            added_mass_coefficient,
-        })
+        Ok(Self { diameter, particle_density, fluid_density, kinematic_viscosity, gravity, added_mass_coefficient })
     }
 
     /// Case P1 (particle-verification.md §2): 10 mm quartz sphere (2650 kg/m³) in water at 20 °C
@@ -96,14 +82,7 @@ impl SettlingSphere {
     /// Settling case of wear-model.md §12.2 (Table 4.2): R = 200 µm, ρ_p = 2500, ρ_f = 1000,
     /// μ = 0.001 Pa s, g = 9.8; no added mass (the reproduction uses C_A = 0, §10.2).
     pub fn wear_settling_case() -> Self {
-        Self {
-            diameter: 400e-6,
-            particle_density: 2500.0,
-            fluid_density: 1000.0,
-            kinematic_viscosity: 1e-6,
-            gravity: 9.8,
-            added_mass_coefficient: 0.0,
-        }
+        Self { diameter: 400e-6, particle_density: 2500.0, fluid_density: 1000.0, kinematic_viscosity: 1e-6, gravity: 9.8, added_mass_coefficient: 0.0 }
     }
 
     /// V_p = π d³/6.
@@ -148,37 +127,26 @@ impl SettlingSphere {
     /// Initial acceleration from rest a₀ = (ρ_p − ρ_f) g/(ρ_p + C_AM ρ_f)
     /// (fluid-dem-model.md U-10: 5.14565 m/s² for case P1).
     pub fn initial_acceleration(&self) -> f64 {
-        (self.particle_density - self.fluid_density) * self.gravity
-            / (self.particle_density + self.added_mass_coefficient * self.fluid_density)
+        (self.particle_density - self.fluid_density) * self.gravity / (self.particle_density + self.added_mass_coefficient * self.fluid_density)
     }
 
     /// Stokes terminal velocity (ρ_p − ρ_f) g d²/(18 μ) (wear-model.md Eq. 4.27).
     pub fn stokes_terminal_velocity(&self) -> f64 {
-        (self.particle_density - self.fluid_density) * self.gravity * self.diameter.powi(2)
-            / (18.0 * self.dynamic_viscosity())
+        (self.particle_density - self.fluid_density) * self.gravity * self.diameter.powi(2) / (18.0 * self.dynamic_viscosity())
     }
 
     /// Stokes relaxation time with added mass, τ = (ρ_p + C_AM ρ_f) d²/(18 μ).
     pub fn stokes_relaxation_time(&self) -> f64 {
-        (self.particle_density + self.added_mass_coefficient * self.fluid_density)
-            * self.diameter.powi(2)
-            / (18.0 * self.dynamic_viscosity())
+        (self.particle_density + self.added_mass_coefficient * self.fluid_density) * self.diameter.powi(2) / (18.0 * self.dynamic_viscosity())
     }
 
     /// Closed-form Stokes-regime transient from rest with added mass:
     /// u = u_t (1 − e^(−t/τ)), x = u_t (t − τ (1 − e^(−t/τ))).
     pub fn stokes_transient(&self, time: f64) -> Result<SettlingSample> {
         non_negative("time", time)?;
-        let (ut, tau) = (
-            self.stokes_terminal_velocity(),
-            self.stokes_relaxation_time(),
-        );
+        let (ut, tau) = (self.stokes_terminal_velocity(), self.stokes_relaxation_time());
         let decay = (-time / tau).exp();
-        Ok(SettlingSample {
-            time,
-            velocity: ut * (1.0 - decay),
-            distance: ut * (time - tau * (1.0 - decay)),
-        })
+        Ok(SettlingSample { time, velocity: ut * (1.0 - decay), distance: ut * (time - tau * (1.0 - decay)) })
     }
 
     /// Terminal velocity: the root of V_p(ρ_p − ρ_f)g = ½ C_d(Re) A_p ρ_f u² found by Brent's
@@ -191,27 +159,10 @@ impl SettlingSphere {
         };
         let first_guess = self.stokes_terminal_velocity().clamp(1e-12, 1.0);
         let lower = first_guess * 1e-6;
-        let (lo, hi) = expand_upper(
-            "terminal-velocity force balance",
-            residual,
-            lower,
-            first_guess,
-            2.0,
-            200,
-        )?;
-        let velocity = brent(
-            "terminal-velocity force balance",
-            residual,
-            lo,
-            hi,
-            1e-15 * hi,
-        )?;
+        let (lo, hi) = expand_upper("terminal-velocity force balance", residual, lower, first_guess, 2.0, 200)?;
+        let velocity = brent("terminal-velocity force balance", residual, lo, hi, 1e-15 * hi)?;
         let reynolds = self.reynolds(velocity);
-        Ok(TerminalVelocity {
-            velocity,
-            reynolds,
-            drag_coefficient: law.drag_coefficient(reynolds)?,
-        })
+        Ok(TerminalVelocity { velocity, reynolds, drag_coefficient: law.drag_coefficient(reynolds)? })
     }
 
     /// Right-hand side of the settling ODE for state [x, u].
@@ -232,37 +183,15 @@ impl SettlingSphere {
     }
 
     /// [`SettlingSphere::transient`] with a chosen relative step tolerance (≥ 1e-15).
-    pub fn transient_with_tolerance(
-        &self,
-        law: DragLaw,
-        times: &[f64],
-        relative_tolerance: f64,
-    ) -> Result<Vec<SettlingSample>> {
+    pub fn transient_with_tolerance(&self, law: DragLaw, times: &[f64], relative_tolerance: f64) -> Result<Vec<SettlingSample>> {
         for &t in times {
             non_negative("time", t)?;
         }
-        crate::error::in_closed(
-            "relative_tolerance",
-            relative_tolerance,
-            1e-15,
-            1e-2,
-            "in [1e-15, 1e-2]",
-        )?;
+        crate::error::in_closed("relative_tolerance", relative_tolerance, 1e-15, 1e-2, "in [1e-15, 1e-2]")?;
         let rhs = self.settling_rhs(law);
-        let tolerance = Tolerance {
-            relative: relative_tolerance,
-            absolute: 1e-30,
-        };
+        let tolerance = Tolerance { relative: relative_tolerance, absolute: 1e-30 };
         let states = dopri_at_times(&rhs, 0.0, [0.0, 0.0], times, tolerance)?;
-        Ok(times
-            .iter()
-            .zip(states)
-            .map(|(&time, y)| SettlingSample {
-                time,
-                velocity: y[1],
-                distance: y[0],
-            })
-            .collect())
+        Ok(times.iter().zip(states).map(|(&time, y)| SettlingSample { time, velocity: y[1], distance: y[0] }).collect())
     }
 
     /// Time and distance needed to reach speed `target` from rest, by quadrature of the
@@ -271,11 +200,7 @@ impl SettlingSphere {
     pub fn time_and_distance_to_speed(&self, law: DragLaw, target: f64) -> Result<(f64, f64)> {
         let terminal = self.terminal_velocity(law)?.velocity;
         if !(target > 0.0 && target < terminal) {
-            return Err(AnalyticError::OutOfRange {
-                name: "target_speed",
-                value: target,
-                allowed: "in (0, terminal velocity)",
-            });
+            return Err(AnalyticError::OutOfRange { name: "target_speed", value: target, allowed: "in (0, terminal velocity)" });
         }
         let (weight, inertia) = (self.submerged_weight(), self.effective_mass());
         let net = |u: f64| weight - self.drag_force(law, u).unwrap_or(f64::NAN);
@@ -308,11 +233,7 @@ impl SettlingSphere {
     /// (fluid-dem-model.md §5.9, Eq. 3.64 with the missing g restored [E]).
     pub fn response_time(&self, drag_coefficient: f64) -> Result<f64> {
         positive("drag_coefficient", drag_coefficient)?;
-        Ok(
-            (4.0 * (self.particle_density - self.fluid_density) * self.diameter
-                / (3.0 * drag_coefficient * self.fluid_density * self.gravity))
-                .sqrt(),
-        )
+        Ok((4.0 * (self.particle_density - self.fluid_density) * self.diameter / (3.0 * drag_coefficient * self.fluid_density * self.gravity)).sqrt())
     }
 
     /// wear-model.md Eq. 4.26: Stokes settling with the *buoyant* mass (ρ_p − ρ_f)V as inertia and
@@ -320,14 +241,12 @@ impl SettlingSphere {
     /// thesis wrote its reference (§12.2 [R]: needed to reproduce its 0.00784 m/s error figure).
     pub fn buoyant_mass_stokes_velocity(&self, time: f64) -> Result<f64> {
         non_negative("time", time)?;
-        Ok(self.stokes_terminal_velocity()
-            * (1.0 - (-time / self.buoyant_mass_relaxation_time()).exp()))
+        Ok(self.stokes_terminal_velocity() * (1.0 - (-time / self.buoyant_mass_relaxation_time()).exp()))
     }
 
     /// τ_b = 2R²(ρ_p − ρ_f)/(9μ) = (ρ_p − ρ_f) d²/(18μ) (wear-model.md §12.2, A26: 0.0133333 s).
     pub fn buoyant_mass_relaxation_time(&self) -> f64 {
-        (self.particle_density - self.fluid_density) * self.diameter.powi(2)
-            / (18.0 * self.dynamic_viscosity())
+        (self.particle_density - self.fluid_density) * self.diameter.powi(2) / (18.0 * self.dynamic_viscosity())
     }
 
     /// Discrete reference for an implicit-Euler Stokes drag update with step `dt` and the
@@ -348,20 +267,14 @@ mod tests {
     fn p1_terminal_velocity_matches_thesis() {
         // particle-verification.md §2: thesis Table 6.3 0.736 m/s; [derived] 0.73577, Re 7332.8,
         // C_d 0.39982. Tolerances: half a unit in the last printed digit.
-        let tv = SettlingSphere::case_p1()
-            .terminal_velocity(DragLaw::BrownLawler)
-            .unwrap();
+        let tv = SettlingSphere::case_p1().terminal_velocity(DragLaw::BrownLawler).unwrap();
         assert!((tv.velocity - 0.736).abs() < 5e-4);
         assert!((tv.velocity - 0.73577).abs() < 5e-6, "{}", tv.velocity);
         assert!((tv.reynolds - 7332.8).abs() < 0.05);
         assert!((tv.drag_coefficient - 0.39982).abs() < 5e-6);
         // Other laws (§2): Dallavalle 0.6757, Schiller–Naumann 0.7014 m/s.
-        let dv = SettlingSphere::case_p1()
-            .terminal_velocity(DragLaw::Dallavalle)
-            .unwrap();
-        let sn = SettlingSphere::case_p1()
-            .terminal_velocity(DragLaw::SchillerNaumann)
-            .unwrap();
+        let dv = SettlingSphere::case_p1().terminal_velocity(DragLaw::Dallavalle).unwrap();
+        let sn = SettlingSphere::case_p1().terminal_velocity(DragLaw::SchillerNaumann).unwrap();
         assert!((dv.velocity - 0.6757).abs() < 5e-5 && (sn.velocity - 0.7014).abs() < 5e-5);
     }
 
@@ -374,31 +287,13 @@ mod tests {
         let samples = sphere.transient(DragLaw::BrownLawler, &times).unwrap();
         let expected = [0.24687, 0.44529, 0.65420, 0.66464, 0.71573, 0.73466];
         for (s, u) in samples.iter().zip(expected) {
-            assert!(
-                (s.velocity - u).abs() < 5e-6,
-                "u({}) = {} vs {u}",
-                s.time,
-                s.velocity
-            );
+            assert!((s.velocity - u).abs() < 5e-6, "u({}) = {} vs {u}", s.time, s.velocity);
         }
-        assert!(
-            (samples[3].distance - 0.08728).abs() < 5e-6,
-            "x(0.21) = {}",
-            samples[3].distance
-        );
-        assert!(
-            (samples[6].distance - 0.6635).abs() < 5e-5,
-            "x(1.0) = {}",
-            samples[6].distance
-        );
+        assert!((samples[3].distance - 0.08728).abs() < 5e-6, "x(0.21) = {}", samples[3].distance);
+        assert!((samples[6].distance - 0.6635).abs() < 5e-5, "x(1.0) = {}", samples[6].distance);
         // 99 % of the terminal velocity after 0.370 s (printed to 3 decimals).
-        let ut = sphere
-            .terminal_velocity(DragLaw::BrownLawler)
-            .unwrap()
-            .velocity;
-        let (t99, _) = sphere
-            .time_and_distance_to_speed(DragLaw::BrownLawler, 0.99 * ut)
-            .unwrap();
+        let ut = sphere.terminal_velocity(DragLaw::BrownLawler).unwrap().velocity;
+        let (t99, _) = sphere.time_and_distance_to_speed(DragLaw::BrownLawler, 0.99 * ut).unwrap();
         assert!((t99 - 0.370).abs() < 5e-4, "t99 = {t99}");
     }
 
@@ -408,9 +303,7 @@ mod tests {
         // t(u) by quadrature. Agreement to 1e-9 s checks both.
         let sphere = SettlingSphere::case_p1();
         let sample = sphere.transient(DragLaw::BrownLawler, &[0.25]).unwrap()[0];
-        let (t, x) = sphere
-            .time_and_distance_to_speed(DragLaw::BrownLawler, sample.velocity)
-            .unwrap();
+        let (t, x) = sphere.time_and_distance_to_speed(DragLaw::BrownLawler, sample.velocity).unwrap();
         assert!((t - 0.25).abs() < 1e-9, "t = {t}");
         assert!((x - sample.distance).abs() < 1e-9);
     }
@@ -423,9 +316,7 @@ mod tests {
         let sphere = SettlingSphere::new(1e-4, 2650.0, 998.2, 1.0034e-6, 9.81, 0.5).unwrap();
         let tau = sphere.stokes_relaxation_time();
         let times: Vec<f64> = [0.1, 0.5, 1.0, 3.0, 8.0].iter().map(|k| k * tau).collect();
-        let numeric = sphere
-            .transient_with_tolerance(DragLaw::Stokes, &times, 1e-14)
-            .unwrap();
+        let numeric = sphere.transient_with_tolerance(DragLaw::Stokes, &times, 1e-14).unwrap();
         let ut = sphere.stokes_terminal_velocity();
         for s in numeric {
             let exact = sphere.stokes_transient(s.time).unwrap();
@@ -452,17 +343,11 @@ mod tests {
         assert!((v3 - 0.080403).abs() < 1e-6);
         let errors: Vec<f64> = (1..=50)
             .map(|n| {
-                let exact = sphere
-                    .buoyant_mass_stokes_velocity(n as f64 * 0.005)
-                    .unwrap();
+                let exact = sphere.buoyant_mass_stokes_velocity(n as f64 * 0.005).unwrap();
                 (sphere.implicit_euler_stokes_velocity(n, 0.005).unwrap() - exact).abs()
             })
             .collect();
-        let (n_max, e_max) =
-            errors.iter().enumerate().fold(
-                (0, 0.0),
-                |acc, (i, &e)| if e > acc.1 { (i + 1, e) } else { acc },
-            );
+        let (n_max, e_max) = errors.iter().enumerate().fold((0, 0.0), |acc, (i, &e)| if e > acc.1 { (i + 1, e) } else { acc });
         assert_eq!(n_max, 3);
         assert!((e_max - 0.0078427).abs() < 1e-7, "thesis 0.00784");
         let v28 = sphere.implicit_euler_stokes_velocity(28, 0.005).unwrap();
@@ -480,13 +365,8 @@ mod tests {
         let tv = steel.terminal_velocity(DragLaw::BrownLawler).unwrap();
         assert!((tv.velocity - 0.5766).abs() < 5e-5, "{}", tv.velocity);
         let teflon = SettlingSphere::new(6e-3, 2150.0, 1.2, 1.5417e-5, 9.81, 0.5).unwrap();
-        let (t, x) = teflon
-            .time_and_distance_to_speed(DragLaw::BrownLawler, 1.01)
-            .unwrap();
-        assert!(
-            (t - 0.1032).abs() < 5e-5 && (x - 0.0522).abs() < 5e-5,
-            "t={t}, x={x}"
-        );
+        let (t, x) = teflon.time_and_distance_to_speed(DragLaw::BrownLawler, 1.01).unwrap();
+        assert!((t - 0.1032).abs() < 5e-5 && (x - 0.0522).abs() < 5e-5, "t={t}, x={x}");
     }
 
     #[test]
@@ -499,10 +379,7 @@ mod tests {
         assert!((u(0.02).velocity - 1.0).abs() < 0.05);
         // 0.7358 m/s prints as "0.73" in Tab. 2.1 (truncated, not rounded): allow 0.01.
         assert!((u(0.01).velocity - 0.73).abs() < 0.01);
-        assert!(
-            (u(0.08).reynolds / 1.5e5 - 1.0).abs() < 0.05
-                && (u(0.01).reynolds / 7300.0 - 1.0).abs() < 0.01
-        );
+        assert!((u(0.08).reynolds / 1.5e5 - 1.0).abs() < 0.05 && (u(0.01).reynolds / 7300.0 - 1.0).abs() < 0.01);
         // fluid-dem-model.md U-13: d = 0.08 m, ρ_p = 2200, ρ_c = 1000, C_d = 0.4: T_p = 0.18061 s,
         // St = T_p ω = 0.567 at 30 rpm and 3.40 for the 6-blade passing (thesis 0.18 s, 0.55, 3.3).
         let rock = SettlingSphere::new(0.08, 2200.0, 1000.0, 1e-6, 9.81, 0.5).unwrap();
@@ -516,11 +393,7 @@ mod tests {
     fn bad_inputs_are_rejected() {
         assert!(SettlingSphere::new(0.01, 900.0, 998.2, 1e-6, 9.81, 0.5).is_err());
         assert!(SettlingSphere::new(-0.01, 2650.0, 998.2, 1e-6, 9.81, 0.5).is_err());
-        assert!(SettlingSphere::case_p1()
-            .transient(DragLaw::BrownLawler, &[-1.0])
-            .is_err());
-        assert!(SettlingSphere::case_p1()
-            .time_and_distance_to_speed(DragLaw::BrownLawler, 0.9)
-            .is_err());
+        assert!(SettlingSphere::case_p1().transient(DragLaw::BrownLawler, &[-1.0]).is_err());
+        assert!(SettlingSphere::case_p1().time_and_distance_to_speed(DragLaw::BrownLawler, 0.9).is_err());
     }
 }

@@ -10,20 +10,11 @@ use crate::error::{AnalyticError, Result};
 
 fn check_edges(name: &'static str, edges: &[f64]) -> Result<()> {
     if edges.len() < 2 {
-        return Err(AnalyticError::Invalid {
-            what: name,
-            reason: format!("needs at least 2 edges, got {}", edges.len()),
-        });
+        return Err(AnalyticError::Invalid { what: name, reason: format!("needs at least 2 edges, got {}", edges.len()) });
     }
     for pair in edges.windows(2) {
         if !(pair[1] > pair[0]) || !pair[1].is_finite() || !pair[0].is_finite() {
-            return Err(AnalyticError::Invalid {
-                what: name,
-                reason: format!(
-                    "edges must increase strictly; {} follows {}",
-                    pair[1], pair[0]
-                ),
-            });
+            return Err(AnalyticError::Invalid { what: name, reason: format!("edges must increase strictly; {} follows {}", pair[1], pair[0]) });
         }
     }
     Ok(())
@@ -37,10 +28,7 @@ pub fn overlap_weights(source_edges: &[f64], target_edges: &[f64]) -> Result<Vec
     let mut weights = Vec::with_capacity(target_edges.len() - 1);
     for target in target_edges.windows(2) {
         let width = target[1] - target[0];
-        let row = source_edges
-            .windows(2)
-            .map(|source| (target[1].min(source[1]) - target[0].max(source[0])).max(0.0) / width)
-            .collect();
+        let row = source_edges.windows(2).map(|source| (target[1].min(source[1]) - target[0].max(source[0])).max(0.0) / width).collect();
         weights.push(row);
     }
     Ok(weights)
@@ -49,17 +37,9 @@ pub fn overlap_weights(source_edges: &[f64], target_edges: &[f64]) -> Result<Vec
 /// Overlap weights of a periodic interface of period `period`: `source_count` equal source faces
 /// rotated by `shift` against `target_count` equal target faces starting at 0 (a rotor/stator
 /// interface whose rotor has turned by `shift`, U-18).
-pub fn periodic_overlap_weights(
-    source_count: usize,
-    target_count: usize,
-    period: f64,
-    shift: f64,
-) -> Result<Vec<Vec<f64>>> {
+pub fn periodic_overlap_weights(source_count: usize, target_count: usize, period: f64, shift: f64) -> Result<Vec<Vec<f64>>> {
     if source_count == 0 || target_count == 0 {
-        return Err(AnalyticError::Invalid {
-            what: "periodic interface",
-            reason: "face counts must be > 0".into(),
-        });
+        return Err(AnalyticError::Invalid { what: "periodic interface", reason: "face counts must be > 0".into() });
     }
     crate::error::positive("period", period)?;
     crate::error::finite("shift", shift)?;
@@ -89,11 +69,7 @@ pub fn map_values(weights: &[Vec<f64>], source_values: &[f64]) -> Result<Vec<f64
             if row.len() != source_values.len() {
                 return Err(AnalyticError::Invalid {
                     what: "mapping",
-                    reason: format!(
-                        "weight row has {} entries but there are {} source values",
-                        row.len(),
-                        source_values.len()
-                    ),
+                    reason: format!("weight row has {} entries but there are {} source values", row.len(), source_values.len()),
                 });
             }
             Ok(row.iter().zip(source_values).map(|(w, q)| w * q).sum())
@@ -111,20 +87,12 @@ mod tests {
         let source = [0.0, 2.0 / 3.0, 4.0 / 3.0, 2.0];
         let target = [0.0, 0.5, 1.0, 1.5, 2.0];
         let m = overlap_weights(&source, &target).unwrap();
-        let expected = [
-            [1.0, 0.0, 0.0],
-            [1.0 / 3.0, 2.0 / 3.0, 0.0],
-            [0.0, 2.0 / 3.0, 1.0 / 3.0],
-            [0.0, 0.0, 1.0],
-        ];
+        let expected = [[1.0, 0.0, 0.0], [1.0 / 3.0, 2.0 / 3.0, 0.0], [0.0, 2.0 / 3.0, 1.0 / 3.0], [0.0, 0.0, 1.0]];
         for (row, exp) in m.iter().zip(expected) {
             for (w, e) in row.iter().zip(exp) {
                 assert!((w - e).abs() < 1e-15);
             }
-            assert!(
-                (row.iter().sum::<f64>() - 1.0).abs() < 1e-15,
-                "row sums are 1"
-            );
+            assert!((row.iter().sum::<f64>() - 1.0).abs() < 1e-15, "row sums are 1");
         }
         let q_t = map_values(&m, &[3.0, 6.0, 9.0]).unwrap();
         for (got, want) in q_t.iter().zip([3.0, 5.0, 7.0, 9.0]) {
@@ -143,10 +111,7 @@ mod tests {
         for shift in [0.0, 0.1234, 1.0, -2.5, 7.0] {
             let m = periodic_overlap_weights(12, 8, period, shift).unwrap();
             for row in &m {
-                assert!(
-                    (row.iter().sum::<f64>() - 1.0).abs() < 1e-13,
-                    "shift {shift}"
-                );
+                assert!((row.iter().sum::<f64>() - 1.0).abs() < 1e-13, "shift {shift}");
             }
             let q_s: Vec<f64> = (0..12).map(|i| (i as f64).sin() + 2.0).collect();
             let q_t = map_values(&m, &q_s).unwrap();

@@ -49,40 +49,22 @@ impl CutterProfile {
     /// Validates: ≥ 2 points, first at s = 0, s strictly increasing, R > 0, φ in (0, π/2).
     pub fn new(points: Vec<ProfilePoint>) -> Result<Self> {
         if points.len() < 2 {
-            return Err(AnalyticError::Invalid {
-                what: "cutter profile",
-                reason: format!("needs at least 2 points, got {}", points.len()),
-            });
+            return Err(AnalyticError::Invalid { what: "cutter profile", reason: format!("needs at least 2 points, got {}", points.len()) });
         }
         if points[0].axial_distance != 0.0 {
-            return Err(AnalyticError::OutOfRange {
-                name: "profile axial_distance[0]",
-                value: points[0].axial_distance,
-                allowed: "0 (the ring)",
-            });
+            return Err(AnalyticError::OutOfRange { name: "profile axial_distance[0]", value: points[0].axial_distance, allowed: "0 (the ring)" });
         }
         for pair in points.windows(2) {
-            if !(pair[1].axial_distance > pair[0].axial_distance)
-                || !pair[1].axial_distance.is_finite()
-            {
+            if !(pair[1].axial_distance > pair[0].axial_distance) || !pair[1].axial_distance.is_finite() {
                 return Err(AnalyticError::Invalid {
                     what: "cutter profile",
-                    reason: format!(
-                        "axial distances must increase strictly; {} follows {}",
-                        pair[1].axial_distance, pair[0].axial_distance
-                    ),
+                    reason: format!("axial distances must increase strictly; {} follows {}", pair[1].axial_distance, pair[0].axial_distance),
                 });
             }
         }
         for p in &points {
             positive("profile radius", p.radius)?;
-            in_open(
-                "profile blade_angle",
-                p.blade_angle,
-                0.0,
-                std::f64::consts::FRAC_PI_2,
-                "in (0, pi/2) rad",
-            )?;
+            in_open("profile blade_angle", p.blade_angle, 0.0, std::f64::consts::FRAC_PI_2, "in (0, pi/2) rad")?;
         }
         Ok(Self { points })
     }
@@ -90,18 +72,7 @@ impl CutterProfile {
     /// A cylinder of radius R and height H with constant blade angle φ (§2.12 closed-form case).
     pub fn cylinder(radius: f64, blade_angle: f64, height: f64) -> Result<Self> {
         positive("height", height)?;
-        Self::new(vec![
-            ProfilePoint {
-                axial_distance: 0.0,
-                radius,
-                blade_angle,
-            },
-            ProfilePoint {
-                axial_distance: height,
-                radius,
-                blade_angle,
-            },
-        ])
+        Self::new(vec![ProfilePoint { axial_distance: 0.0, radius, blade_angle }, ProfilePoint { axial_distance: height, radius, blade_angle }])
     }
 
     /// Illustrative 1:4 laboratory head. **Not the thesis geometry**: R(z), φ(z) exist only in
@@ -114,19 +85,8 @@ impl CutterProfile {
     /// ρ₁ = 1254 kg/m³ (thesis model: "≈ 70 % more", §2.9) — plausible, not calibrated.
     pub fn illustrative_lab_head() -> Self {
         let phi = 30f64.to_radians();
-        let point = |s: f64, r: f64| ProfilePoint {
-            axial_distance: s,
-            radius: r,
-            blade_angle: phi,
-        };
-        Self {
-            points: vec![
-                point(0.0, 0.375),
-                point(0.255, 0.375),
-                point(0.365, 0.26),
-                point(0.44, 0.25),
-            ],
-        }
+        let point = |s: f64, r: f64| ProfilePoint { axial_distance: s, radius: r, blade_angle: phi };
+        Self { points: vec![point(0.0, 0.375), point(0.255, 0.375), point(0.365, 0.26), point(0.44, 0.25)] }
     }
 
     /// H, the axial distance of the last point.
@@ -141,16 +101,10 @@ impl CutterProfile {
 
     fn interpolate(&self, s: f64) -> (f64, f64) {
         let s = s.clamp(0.0, self.height());
-        let i = self
-            .points
-            .partition_point(|p| p.axial_distance <= s)
-            .clamp(1, self.points.len() - 1);
+        let i = self.points.partition_point(|p| p.axial_distance <= s).clamp(1, self.points.len() - 1);
         let (a, b) = (self.points[i - 1], self.points[i]);
         let t = (s - a.axial_distance) / (b.axial_distance - a.axial_distance);
-        (
-            a.radius + t * (b.radius - a.radius),
-            a.blade_angle + t * (b.blade_angle - a.blade_angle),
-        )
+        (a.radius + t * (b.radius - a.radius), a.blade_angle + t * (b.blade_angle - a.blade_angle))
     }
 
     /// R(s), s clamped to [0, H].
@@ -214,20 +168,8 @@ impl SpillageInputs {
     pub fn validate(&self) -> Result<()> {
         non_negative("omega", self.omega)?;
         non_negative("suction_discharge", self.suction_discharge)?;
-        in_open(
-            "flow_factor (alpha)",
-            self.flow_factor,
-            0.0,
-            1.0,
-            "in (0, 1)",
-        )?;
-        in_closed(
-            "pressure_coefficient (beta)",
-            self.pressure_coefficient,
-            0.0,
-            1.0,
-            "in [0, 1]",
-        )?;
+        in_open("flow_factor (alpha)", self.flow_factor, 0.0, 1.0, "in (0, 1)")?;
+        in_closed("pressure_coefficient (beta)", self.pressure_coefficient, 0.0, 1.0, "in [0, 1]")?;
         positive("density_top", self.density_top)?;
         positive("density_bottom", self.density_bottom)?;
         Ok(())
@@ -250,16 +192,8 @@ pub struct SegmentGeometry {
 /// Segment averages at outflow height `w1` (§2.7).
 pub fn segment_geometry(profile: &CutterProfile, w1: f64) -> SegmentGeometry {
     let h = profile.height();
-    let (r0, rw, rh) = (
-        profile.radius_at(0.0),
-        profile.radius_at(w1),
-        profile.radius_at(h),
-    );
-    let (t0, tw, th) = (
-        profile.blade_angle_at(0.0).tan(),
-        profile.blade_angle_at(w1).tan(),
-        profile.blade_angle_at(h).tan(),
-    );
+    let (r0, rw, rh) = (profile.radius_at(0.0), profile.radius_at(w1), profile.radius_at(h));
+    let (t0, tw, th) = (profile.blade_angle_at(0.0).tan(), profile.blade_angle_at(w1).tan(), profile.blade_angle_at(h).tan());
     SegmentGeometry {
         mean_radius_sq_top: 0.5 * (r0 * r0 + rw * rw),
         mean_radius_sq_bottom: 0.5 * (rw * rw + rh * rh),
@@ -274,14 +208,8 @@ pub fn outflow_height_map(inputs: &SpillageInputs, w1: f64) -> f64 {
     let (rho1, rho2) = (inputs.density_top, inputs.density_bottom);
     let f = pressure_fraction(inputs, &g);
     let a = rho2 * g.tan_blade_top / (rho1 * g.tan_blade_bottom);
-    let q = inputs.suction_discharge * rho2
-        / (2.0
-            * std::f64::consts::PI
-            * inputs.flow_factor
-            * inputs.omega
-            * rho1
-            * g.mean_radius_sq_top
-            * g.tan_blade_bottom);
+    let q =
+        inputs.suction_discharge * rho2 / (2.0 * std::f64::consts::PI * inputs.flow_factor * inputs.omega * rho1 * g.mean_radius_sq_top * g.tan_blade_bottom);
     (inputs.profile.height() * f - q) / (a + f)
 }
 
@@ -347,13 +275,7 @@ pub fn solve(inputs: &SpillageInputs) -> Result<SpillageSolution> {
             }
             lower = w;
         }
-        brent(
-            "spillage model outflow height (Eq. 4.88)",
-            g,
-            lower,
-            upper,
-            1e-12 * h,
-        )?
+        brent("spillage model outflow height (Eq. 4.88)", g, lower, upper, 1e-12 * h)?
     };
     Ok(evaluate(inputs, w1))
 }
@@ -362,36 +284,21 @@ pub fn solve(inputs: &SpillageInputs) -> Result<SpillageSolution> {
 pub fn evaluate(inputs: &SpillageInputs, w1: f64) -> SpillageSolution {
     let h = inputs.profile.height();
     let g = segment_geometry(&inputs.profile, w1);
-    let (alpha, beta, omega) = (
-        inputs.flow_factor,
-        inputs.pressure_coefficient,
-        inputs.omega,
-    );
+    let (alpha, beta, omega) = (inputs.flow_factor, inputs.pressure_coefficient, inputs.omega);
     let (rho1, rho2) = (inputs.density_top, inputs.density_bottom);
     let two_pi = 2.0 * std::f64::consts::PI;
     let blade_pressure_top = (1.0 - alpha) * rho1 * omega * omega * g.mean_radius_sq_top;
     let blade_pressure_bottom = (1.0 - alpha) * rho2 * omega * omega * g.mean_radius_sq_bottom;
     let (alpha_prime_top, alpha_prime_bottom) = if omega > 0.0 {
-        (
-            two_pi * g.tan_blade_top / (omega * rho1) * alpha / (1.0 - alpha),
-            two_pi * g.tan_blade_bottom / (omega * rho2) * alpha / (1.0 - alpha),
-        )
+        (two_pi * g.tan_blade_top / (omega * rho1) * alpha / (1.0 - alpha), two_pi * g.tan_blade_bottom / (omega * rho2) * alpha / (1.0 - alpha))
     } else {
         (f64::INFINITY, f64::INFINITY)
     };
     let outflow_discharge = two_pi * g.mean_radius_sq_top * w1 * alpha * omega * g.tan_blade_top;
     let qm = inputs.suction_discharge;
     let total = qm + outflow_discharge;
-    let spillage_fraction = if total > 0.0 {
-        outflow_discharge / total
-    } else {
-        0.0
-    };
-    let inflow_discharge_from_pressure = if omega > 0.0 {
-        alpha_prime_bottom * (h - w1) * (blade_pressure_top - beta * blade_pressure_bottom)
-    } else {
-        0.0
-    };
+    let spillage_fraction = if total > 0.0 { outflow_discharge / total } else { 0.0 };
+    let inflow_discharge_from_pressure = if omega > 0.0 { alpha_prime_bottom * (h - w1) * (blade_pressure_top - beta * blade_pressure_bottom) } else { 0.0 };
     SpillageSolution {
         outflow_height: w1,
         inflow_height: h - w1,
@@ -405,11 +312,7 @@ pub fn evaluate(inputs: &SpillageInputs, w1: f64) -> SpillageSolution {
         blade_pressure_bottom,
         alpha_prime_top,
         alpha_prime_bottom,
-        outflow_velocity: if w1 > 0.0 {
-            alpha * omega * g.mean_radius_sq_top.sqrt() * g.tan_blade_top
-        } else {
-            0.0
-        },
+        outflow_velocity: if w1 > 0.0 { alpha * omega * g.mean_radius_sq_top.sqrt() * g.tan_blade_top } else { 0.0 },
         geometry: g,
         has_outflow: w1 > 0.0,
     }
@@ -418,10 +321,7 @@ pub fn evaluate(inputs: &SpillageInputs, w1: f64) -> SpillageSolution {
 /// The thesis procedure of §2.8 literally: plain fixed-point iteration of Eq. 4.88 from
 /// w₁ = H/2 until |Δw₁| < 1e-9 H (negative iterates clipped to 0). Returns (w₁, iterations).
 /// Kept to show that the bracketing solver finds the same state when the iteration contracts.
-pub fn solve_by_fixed_point(
-    inputs: &SpillageInputs,
-    max_iterations: usize,
-) -> Result<(f64, usize)> {
+pub fn solve_by_fixed_point(inputs: &SpillageInputs, max_iterations: usize) -> Result<(f64, usize)> {
     inputs.validate()?;
     let h = inputs.profile.height();
     let mut w1 = 0.5 * h;
@@ -432,11 +332,7 @@ pub fn solve_by_fixed_point(
         }
         w1 = next;
     }
-    Err(AnalyticError::NoConvergence {
-        what: "fixed-point iteration of Eq. 4.88",
-        iterations: max_iterations,
-        residual: outflow_height_map(inputs, w1) - w1,
-    })
+    Err(AnalyticError::NoConvergence { what: "fixed-point iteration of Eq. 4.88", iterations: max_iterations, residual: outflow_height_map(inputs, w1) - w1 })
 }
 
 /// Rotation rate at which outflow starts (§2.12 item 2, [derived]):
@@ -453,15 +349,7 @@ pub fn onset_omega(inputs: &SpillageInputs) -> Result<f64> {
     }
     let r0 = inputs.profile.radius_at(0.0);
     Ok(inputs.suction_discharge * inputs.density_bottom
-        / (2.0
-            * std::f64::consts::PI
-            * inputs.flow_factor
-            * inputs.profile.height()
-            * f0
-            * inputs.density_top
-            * r0
-            * r0
-            * g.tan_blade_bottom))
+        / (2.0 * std::f64::consts::PI * inputs.flow_factor * inputs.profile.height() * f0 * inputs.density_top * r0 * r0 * g.tan_blade_bottom))
 }
 
 #[cfg(test)]
@@ -469,11 +357,7 @@ mod tests {
     use super::*;
 
     fn cylinder_case(rpm: f64, qm: f64, beta: f64) -> SpillageInputs {
-        let mut inputs = SpillageInputs::calibrated_water(
-            CutterProfile::cylinder(0.375, 0.7, 0.44).unwrap(),
-            rpm,
-            qm,
-        );
+        let mut inputs = SpillageInputs::calibrated_water(CutterProfile::cylinder(0.375, 0.7, 0.44).unwrap(), rpm, qm);
         inputs.pressure_coefficient = beta;
         inputs
     }
@@ -501,30 +385,23 @@ mod tests {
     fn continuity_and_identities_hold_to_round_off() {
         // §2.8 invariant tests on a non-trivial profile with unequal densities.
         for rpm in [30.0, 60.0, 90.0] {
-            let mut inputs =
-                SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, 0.12);
+            let mut inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, 0.12);
             inputs.density_top = MIXTURE_DENSITY_TOP;
             let sol = solve(&inputs).unwrap();
             if !sol.has_outflow {
                 continue;
             }
-            let residual = sol.outflow_discharge - sol.inflow_discharge_from_pressure
-                + inputs.suction_discharge;
-            assert!(
-                residual.abs() < 1e-14,
-                "Eq. 4.79 residual {residual:e} at {rpm} rpm"
-            );
+            let residual = sol.outflow_discharge - sol.inflow_discharge_from_pressure + inputs.suction_discharge;
+            assert!(residual.abs() < 1e-14, "Eq. 4.79 residual {residual:e} at {rpm} rpm");
             // α'₁ w₁ ΔP_bl,1 = 2π α ω R̄₁² w₁ t₁ (Eq. 4.80 = Eq. 4.59).
             let via_pressure = sol.alpha_prime_top * sol.outflow_height * sol.blade_pressure_top;
             assert!(((via_pressure - sol.outflow_discharge) / sol.outflow_discharge).abs() < 1e-13);
             // The solution is a fixed point of Eq. 4.88 in its original (α'-ratio) form.
-            let w1_488 = (inputs.profile.height() * sol.pressure_fraction
-                - inputs.suction_discharge / (sol.blade_pressure_top * sol.alpha_prime_bottom))
+            let w1_488 = (inputs.profile.height() * sol.pressure_fraction - inputs.suction_discharge / (sol.blade_pressure_top * sol.alpha_prime_bottom))
                 / (sol.alpha_prime_top / sol.alpha_prime_bottom + sol.pressure_fraction);
             assert!((w1_488 - sol.outflow_height).abs() < 1e-11);
             // Eq. 4.89: α'₁/α'₂ = ρ₂ tanφ₁/(ρ₁ tanφ₂).
-            let ratio = inputs.density_bottom * sol.geometry.tan_blade_top
-                / (inputs.density_top * sol.geometry.tan_blade_bottom);
+            let ratio = inputs.density_bottom * sol.geometry.tan_blade_top / (inputs.density_top * sol.geometry.tan_blade_bottom);
             assert!((sol.alpha_prime_top / sol.alpha_prime_bottom - ratio).abs() < 1e-14);
             assert!((sol.spillage_fraction + sol.production_fraction - 1.0).abs() < 1e-15);
         }
@@ -532,8 +409,7 @@ mod tests {
 
     #[test]
     fn onset_separates_no_outflow_from_outflow() {
-        let inputs =
-            SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 0.0, 0.12);
+        let inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 0.0, 0.12);
         let onset = onset_omega(&inputs).unwrap();
         let mut below = inputs.clone();
         below.omega = 0.999 * onset;
@@ -544,14 +420,7 @@ mod tests {
         assert!(sol_above.has_outflow && sol_above.outflow_height < 0.01 * inputs.profile.height());
         // Cylinder onset from the closed form: ω = Q_m/(2π α H (1−β) R² tanφ).
         let cyl = cylinder_case(0.0, 0.12, 0.774);
-        let expected = 0.12
-            / (2.0
-                * std::f64::consts::PI
-                * 0.375
-                * 0.44
-                * (1.0 - 0.774)
-                * 0.375f64.powi(2)
-                * 0.7f64.tan());
+        let expected = 0.12 / (2.0 * std::f64::consts::PI * 0.375 * 0.44 * (1.0 - 0.774) * 0.375f64.powi(2) * 0.7f64.tan());
         assert!((onset_omega(&cyl).unwrap() - expected).abs() < 1e-12 * expected);
     }
 
@@ -573,20 +442,11 @@ mod tests {
         let no_suction = solve(&cylinder_case(60.0, 0.0, 0.5)).unwrap();
         assert!((no_suction.spillage_fraction - 1.0).abs() < 1e-15);
         // §2.9: a heavier top segment increases w₁ and Q₁.
-        let water = solve(&SpillageInputs::calibrated_water(
-            CutterProfile::illustrative_lab_head(),
-            60.0,
-            0.12,
-        ))
-        .unwrap();
-        let mut mixture_inputs =
-            SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 60.0, 0.12);
+        let water = solve(&SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 60.0, 0.12)).unwrap();
+        let mut mixture_inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 60.0, 0.12);
         mixture_inputs.density_top = MIXTURE_DENSITY_TOP;
         let mixture = solve(&mixture_inputs).unwrap();
-        assert!(
-            mixture.outflow_discharge > water.outflow_discharge
-                && mixture.outflow_height > water.outflow_height
-        );
+        assert!(mixture.outflow_discharge > water.outflow_discharge && mixture.outflow_height > water.outflow_height);
     }
 
     #[test]
@@ -602,11 +462,7 @@ mod tests {
         assert!((b.outflow_height / a.outflow_height - 2.0).abs() < 1e-12);
         assert!((b.outflow_discharge / a.outflow_discharge - 8.0).abs() < 1e-11);
         // Above onset Q₁ is linear in ω for a cylinder (Fig. 8.1 behaviour).
-        let q = |rpm: f64| {
-            solve(&cylinder_case(rpm, 0.12, 0.774))
-                .unwrap()
-                .outflow_discharge
-        };
+        let q = |rpm: f64| solve(&cylinder_case(rpm, 0.12, 0.774)).unwrap().outflow_discharge;
         let (q60, q75, q90) = (q(60.0), q(75.0), q(90.0));
         assert!(((q90 - q75) - (q75 - q60)).abs() < 1e-14);
     }
@@ -614,51 +470,32 @@ mod tests {
     #[test]
     fn thesis_fixed_point_iteration_agrees_with_bracketing() {
         for rpm in [45.0, 60.0, 90.0] {
-            let inputs =
-                SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, 0.12);
+            let inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), rpm, 0.12);
             let sol = solve(&inputs).unwrap();
             let (w1, iterations) = solve_by_fixed_point(&inputs, 10_000).unwrap();
             assert!(iterations > 1);
             // The iteration stops at |Δw| < 1e-9 H; with contraction factor < 1 the distance to the
             // fixed point is within a few times that.
-            assert!(
-                (w1 - sol.outflow_height).abs() < 1e-7 * inputs.profile.height(),
-                "rpm {rpm}"
-            );
+            assert!((w1 - sol.outflow_height).abs() < 1e-7 * inputs.profile.height(), "rpm {rpm}");
         }
     }
 
     #[test]
     fn bad_inputs_name_the_parameter() {
-        let mut inputs =
-            SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 60.0, 0.12);
+        let mut inputs = SpillageInputs::calibrated_water(CutterProfile::illustrative_lab_head(), 60.0, 0.12);
         inputs.flow_factor = 1.0;
         let message = solve(&inputs).unwrap_err().to_string();
-        assert!(
-            message.contains("alpha") && message.contains("(0, 1)"),
-            "{message}"
-        );
+        assert!(message.contains("alpha") && message.contains("(0, 1)"), "{message}");
         inputs.flow_factor = 0.375;
         inputs.pressure_coefficient = 1.2;
         assert!(solve(&inputs).unwrap_err().to_string().contains("beta"));
         inputs.pressure_coefficient = 0.774;
         inputs.suction_discharge = -0.1;
-        assert!(solve(&inputs)
-            .unwrap_err()
-            .to_string()
-            .contains("suction_discharge"));
+        assert!(solve(&inputs).unwrap_err().to_string().contains("suction_discharge"));
         assert!(CutterProfile::cylinder(0.4, 1.6, 0.4).is_err());
         assert!(CutterProfile::new(vec![
-            ProfilePoint {
-                axial_distance: 0.0,
-                radius: 0.3,
-                blade_angle: 0.5
-            },
-            ProfilePoint {
-                axial_distance: 0.0,
-                radius: 0.3,
-                blade_angle: 0.5
-            },
+            ProfilePoint { axial_distance: 0.0, radius: 0.3, blade_angle: 0.5 },
+            ProfilePoint { axial_distance: 0.0, radius: 0.3, blade_angle: 0.5 },
         ])
         .is_err());
     }

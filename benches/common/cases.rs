@@ -135,4 +135,3 @@ velocity = [1.0, 0.0, 0.0]
     );
     Case::from_toml(&text, Path::new("bench_lid.toml")).expect("bench case")
 }
-

@@ -9,11 +9,7 @@ use spillage_fast::linear::Csr;
 use std::time::Instant;
 /// 5-point Laplacian-like matrix on an n × n grid (diagonal 4.5).
 fn grid(n: usize) -> Csr<f32> {
-    let mut a: Csr<f32> = Csr {
-        n: n * n,
-        row_start: vec![0],
-        ..Default::default()
-    };
+    let mut a: Csr<f32> = Csr { n: n * n, row_start: vec![0], ..Default::default() };
     for j in 0..n {
         for i in 0..n {
             for (di, dj) in [(0i64, -1i64), (-1, 0), (1, 0), (0, 1)] {
@@ -39,10 +35,7 @@ fn main() {
         let b: Vec<f32> = (0..a.n).map(|i| (i as f32 * 0.1).sin()).collect();
         let mut line = format!("n {n}² ({} rows):", a.n);
         for t in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .unwrap();
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
             let mut x = vec![0.0f32; a.n];
             let reps = (400_000_000 / a.n).max(2);
             let best = pool.install(|| {
@@ -56,11 +49,7 @@ fn main() {
                 }
                 best
             });
-            line += &format!(
-                "  {t}t {:.1} µs/sweep {:.2} ns/row",
-                best * 1e6,
-                best * 1e9 / a.n as f64
-            );
+            line += &format!("  {t}t {:.1} µs/sweep {:.2} ns/row", best * 1e6, best * 1e9 / a.n as f64);
         }
         println!("{line}");
     }

@@ -33,7 +33,8 @@ pub enum CheckpointError {
 /// Writes `state` of case `case_name` to `path` atomically.
 pub fn write(path: &Path, case_name: &str, state: &State) -> Result<(), CheckpointError> {
     let io = |source| CheckpointError::Io { path: path.to_path_buf(), source };
-    let payload = postcard::to_stdvec(state).map_err(|e| CheckpointError::Damaged { path: path.to_path_buf(), what: format!("cannot encode the state: {e}") })?;
+    let payload =
+        postcard::to_stdvec(state).map_err(|e| CheckpointError::Damaged { path: path.to_path_buf(), what: format!("cannot encode the state: {e}") })?;
     let name = case_name.replace(['\n', '\r'], " ");
     let tmp = path.with_extension("tmp");
     {

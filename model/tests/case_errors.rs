@@ -75,7 +75,11 @@ fn bad_inputs() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("missing patch", r("[boundary.x_min]\ntype = \"wall\"\n", ""), vec!["[boundary.x_min]", "every patch"]),
         ("unknown bc type", r("[boundary.x_min]\ntype = \"wall\"", "[boundary.x_min]\ntype = \"slip\""), vec!["slip", "wall"]),
         ("nan wall velocity", r("velocity = [1.0, 0.0, 0.0]", "velocity = [1.0, nan, 0.0]"), vec!["boundary.y_max.velocity", "finite"]),
-        ("rotating wall with velocity", r("velocity = [1.0, 0.0, 0.0]", "velocity = [1.0, 0.0, 0.0]\nrotating = true"), vec!["boundary.y_max.velocity", "rotating"]),
+        (
+            "rotating wall with velocity",
+            r("velocity = [1.0, 0.0, 0.0]", "velocity = [1.0, 0.0, 0.0]\nrotating = true"),
+            vec!["boundary.y_max.velocity", "rotating"],
+        ),
         ("rotor on a box", format!("{GOOD}\n[rotor]\nomega = 1.0\n"), vec!["rotor", "rotor_stator"]),
         ("rotor omega and rpm", format!("{GOOD}\n[rotor]\nomega = 1.0\nrpm = 30.0\n"), vec!["rotor.rpm", "not both"]),
         ("zero rotor axis", format!("{GOOD}\n[rotor]\nomega = 1.0\naxis = [0.0, 0.0, 0.0]\n"), vec!["rotor.axis", "non-zero"]),

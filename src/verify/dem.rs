@@ -21,7 +21,8 @@ use spillage_reference::dem::{ContactSample, ReferenceDem};
 use super::CheckRow;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["dem_hertz_elastic", "dem_dry_restitution", "dem_wet_restitution", "dem_oblique", "dem_moving_wall", "dem_tessellated_plane", "dem_pile"];
+pub const CHECKS: &[&str] =
+    &["dem_hertz_elastic", "dem_dry_restitution", "dem_wet_restitution", "dem_oblique", "dem_moving_wall", "dem_tessellated_plane", "dem_pile"];
 
 pub fn run_check(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
     match check {
@@ -46,7 +47,14 @@ fn params(case: &Case) -> &toml::Table {
 fn list(case: &Case, key: &str) -> anyhow::Result<Vec<f64>> {
     let value = params(case).get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
     let array = value.as_array().ok_or_else(|| anyhow!("{}: verify.params.{key} must be a list of numbers", case.path.display()))?;
-    array.iter().map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("{}: verify.params.{key} must hold numbers, found {v}", case.path.display()))).collect()
+    array
+        .iter()
+        .map(|v| {
+            v.as_float()
+                .or_else(|| v.as_integer().map(|i| i as f64))
+                .ok_or_else(|| anyhow!("{}: verify.params.{key} must hold numbers, found {v}", case.path.display()))
+        })
+        .collect()
 }
 
 fn number(case: &Case, key: &str) -> anyhow::Result<f64> {
@@ -164,7 +172,13 @@ fn parabolic_peak(y: &[f64], k: usize) -> f64 {
 /// Runs sub-steps of the solver's own size (from time.dt and T3.105–106) until one contact has
 /// come and gone. `overlap` and `normal_velocity` (relative, positive = approaching) are
 /// measured from the particles' geometry, not from the solver's contact records.
-fn run_impact(dem: &mut DemRig, case: &Case, overlap: &dyn Fn(&[Particle]) -> f64, approach_velocity: &dyn Fn(&[Particle]) -> f64, fluid: &dyn Fn(&Particle) -> Option<FluidAtParticle>) -> anyhow::Result<Impact> {
+fn run_impact(
+    dem: &mut DemRig,
+    case: &Case,
+    overlap: &dyn Fn(&[Particle]) -> f64,
+    approach_velocity: &dyn Fn(&[Particle]) -> f64,
+    fluid: &dyn Fn(&Particle) -> Option<FluidAtParticle>,
+) -> anyhow::Result<Impact> {
     let outer = case.time.dt.ok_or_else(|| anyhow!("{}: needs time.dt", case.path.display()))?;
     let dt = outer / dem.substeps_for(outer) as f64;
     let mut impact = Impact::default();
@@ -293,7 +307,14 @@ fn hertz_elastic(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
         rows.push(CheckRow::relative(name, format!("max normal force [N] at {speed} m/s"), SOLVER, impact.max_force, exact.max_force, 0.01));
         rows.push(CheckRow::relative(name, format!("contact time [s] at {speed} m/s"), SOLVER, impact.contact_time, exact.contact_time, 0.01));
         // 1e-6 (issue #5): velocity Verlet is symplectic; its energy error is O(dt²).
-        rows.push(CheckRow::relative(name, format!("kinetic energy after/before at {speed} m/s"), SOLVER, impact.kinetic_after / impact.kinetic_before, 1.0, 1e-6));
+        rows.push(CheckRow::relative(
+            name,
+            format!("kinetic energy after/before at {speed} m/s"),
+            SOLVER,
+            impact.kinetic_after / impact.kinetic_before,
+            1.0,
+            1e-6,
+        ));
     }
     Ok(rows)
 }
@@ -438,11 +459,20 @@ fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
         let regime = if psi_in <= stick_limit { "stick" } else { "slip" };
         // 5 % of the incoming tangential speed (issue #5).
         let scale = psi_in;
-        rows.push(CheckRow { error: (psi_out - hard.contact_velocity()).abs() / scale, ..CheckRow::absolute(name, format!("Ψ_out at {theta}° ({regime}), error/Ψ_in"), SOLVER, psi_out, hard.contact_velocity(), 0.05) });
-        rows.push(CheckRow { error: (spin - hard.contact_spin_velocity).abs() / scale, ..CheckRow::absolute(name, format!("spin ωr/u_n at {theta}° ({regime}), error/Ψ_in"), SOLVER, spin, hard.contact_spin_velocity, 0.05) });
+        rows.push(CheckRow {
+            error: (psi_out - hard.contact_velocity()).abs() / scale,
+            ..CheckRow::absolute(name, format!("Ψ_out at {theta}° ({regime}), error/Ψ_in"), SOLVER, psi_out, hard.contact_velocity(), 0.05)
+        });
+        rows.push(CheckRow {
+            error: (spin - hard.contact_spin_velocity).abs() / scale,
+            ..CheckRow::absolute(name, format!("spin ωr/u_n at {theta}° ({regime}), error/Ψ_in"), SOLVER, spin, hard.contact_spin_velocity, 0.05)
+        });
         let zeta = (psi_out / e_measured).atan().to_degrees();
         let zeta_hard = (hard.contact_velocity() / e_n).atan().to_degrees();
-        rows.push(CheckRow { error: (zeta - zeta_hard).abs() / theta, ..CheckRow::absolute(name, format!("rebound angle [°] at {theta}° ({regime}), error/θ_in"), SOLVER, zeta, zeta_hard, 0.05) });
+        rows.push(CheckRow {
+            error: (zeta - zeta_hard).abs() / theta,
+            ..CheckRow::absolute(name, format!("rebound angle [°] at {theta}° ({regime}), error/θ_in"), SOLVER, zeta, zeta_hard, 0.05)
+        });
     }
     for row in rows.iter_mut() {
         row.pass = row.error <= row.tolerance;
@@ -456,7 +486,10 @@ fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
 /// the contact point (rigid, infinitely massive wall).
 fn moving_wall(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
     let name = &case.case.name;
-    let kind = params(case).get("kind").and_then(|v| v.as_str()).ok_or_else(|| anyhow!("{}: verify.params.kind must be \"resting\" or \"impact\"", case.path.display()))?;
+    let kind = params(case)
+        .get("kind")
+        .and_then(|v| v.as_str())
+        .ok_or_else(|| anyhow!("{}: verify.params.kind must be \"resting\" or \"impact\"", case.path.display()))?;
     let (omega, axis, origin) = match case.walls.first().map(|w| &w.motion) {
         Some(spillage_model::walls::settings::MotionSection::Rotate { omega, axis, origin }) => (*omega, Vec3::from(*axis).normalize(), Vec3::from(*origin)),
         _ => bail!("{}: this check needs a rotating first wall", case.path.display()),
@@ -554,7 +587,13 @@ fn tessellated_plane(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
     rows.push(CheckRow::absolute(name, "most contacts at once (tessellated)", SOLVER, tess_contacts as f64, 1.0, 0.0));
     rows.push(CheckRow::absolute(name, "most contacts at once (one quad)", SOLVER, exact_contacts as f64, 1.0, 0.0));
     let travelled = (exact_end[0].position - particles(case)?.particles[0].position).norm();
-    rows.push(CheckRow::at_most(name, "end position difference / distance travelled", SOLVER, (tess_end[0].position - exact_end[0].position).norm() / travelled, 1e-9));
+    rows.push(CheckRow::at_most(
+        name,
+        "end position difference / distance travelled",
+        SOLVER,
+        (tess_end[0].position - exact_end[0].position).norm() / travelled,
+        1e-9,
+    ));
     Ok(rows)
 }
 
@@ -592,7 +631,14 @@ fn pile(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
         // At rest: kinetic energy against the energy of lifting every sphere by one diameter.
         CheckRow::at_most(name, "final kinetic energy / Σ m g d", SOLVER, dem.kinetic_energy() / scale, rest),
         CheckRow::absolute(name, "spheres inside the box", SOLVER, inside as f64, count as f64, 0.0),
-        CheckRow::absolute(name, "created − present − escaped", SOLVER, ps.counts.created as f64 - ps.particles.len() as f64 - ps.counts.escaped as f64, 0.0, 0.0),
+        CheckRow::absolute(
+            name,
+            "created − present − escaped",
+            SOLVER,
+            ps.counts.created as f64 - ps.particles.len() as f64 - ps.counts.escaped as f64,
+            0.0,
+            0.0,
+        ),
         CheckRow::absolute(name, "escaped", SOLVER, ps.counts.escaped as f64, 0.0, 0.0),
         // Softened contacts must still stay small against the radius (§7.6).
         CheckRow::at_most(name, "largest overlap / radius at rest", SOLVER, max_overlap, 0.05),

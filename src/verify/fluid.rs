@@ -151,9 +151,7 @@ fn with_dt(case: &Case, dt: f64) -> Case {
 /// Angular velocity a wall condition imposes about the z axis (rotor speed for rotating walls).
 fn wall_omega(case: &Case, patch: &str) -> Result<f64> {
     match case.boundary.get(patch) {
-        Some(BoundaryCondition::Wall { rotating: true, .. }) => {
-            Ok(case.rotor.as_ref().map(|r| r.angular_velocity()).unwrap_or(0.0))
-        }
+        Some(BoundaryCondition::Wall { rotating: true, .. }) => Ok(case.rotor.as_ref().map(|r| r.angular_velocity()).unwrap_or(0.0)),
         Some(BoundaryCondition::Wall { angular_velocity, .. }) => Ok(*angular_velocity),
         other => bail!("circular Couette needs a wall on `{patch}`, found {other:?}"),
     }
@@ -303,7 +301,13 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         if matches!(case.mesh, Some(MeshSection::RotorStator { .. })) {
             // round-off: the overlap fluxes are summed onto both sides from one value each
             let max_imbalance = param_f64_or(case, "max_interface_imbalance", 1e-12);
-            rows.push(CheckRow::at_most(name, format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"), "reference", e.run.max_interface_imbalance, max_imbalance));
+            rows.push(CheckRow::at_most(
+                name,
+                format!("interface flux imbalance (max over steps) {n_theta}x{n_r}"),
+                "reference",
+                e.run.max_interface_imbalance,
+                max_imbalance,
+            ));
         }
         // an unconverged outer loop leaves an error that refinement does not remove; a steady
         // case only needs its last step to be a converged fixed point
@@ -311,7 +315,13 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             let quantity = format!("last step: initial pressure residual {n_theta}x{n_r}");
             rows.push(CheckRow::at_most(name, quantity, "reference", e.run.last_residual, case.numerics.p_initial_residual));
         } else {
-            rows.push(CheckRow::at_most(name, format!("steps without outer-loop convergence {n_theta}x{n_r}"), "reference", e.run.unconverged_steps as f64, 0.0));
+            rows.push(CheckRow::at_most(
+                name,
+                format!("steps without outer-loop convergence {n_theta}x{n_r}"),
+                "reference",
+                e.run.unconverged_steps as f64,
+                0.0,
+            ));
         }
         results.push((n_r as f64, n_theta, dt, e));
     }
@@ -319,7 +329,13 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let (a, b) = (&w[0], &w[1]);
         let h = b.0 / a.0;
         let label = format!("{}x{}→{}x{}", a.1, a.0, b.1, b.0);
-        rows.push(CheckRow::at_least(name, format!("observed order u_theta {label}"), "reference", observed_order(a.3.u_rms, b.3.u_rms, h), param_f64(case, "min_order_u")?));
+        rows.push(CheckRow::at_least(
+            name,
+            format!("observed order u_theta {label}"),
+            "reference",
+            observed_order(a.3.u_rms, b.3.u_rms, h),
+            param_f64(case, "min_order_u")?,
+        ));
         // the asserted pressure-gradient measure is the cell (Gauss) gradient, the field the
         // solver works with and OpenFOAM's grad(p) of spec spillage-and-flow-verification.md
         // §3.4; the ring-pressure difference quotient is reported beside it
@@ -341,7 +357,13 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             });
         }
         let difference_order = observed_order(a.3.dpdr_diff_rms, b.3.dpdr_diff_rms, h);
-        rows.push(CheckRow::at_most(name, format!("observed order dp/dr (ring pressure differences, reported) {label}"), "reference", difference_order, f64::INFINITY));
+        rows.push(CheckRow::at_most(
+            name,
+            format!("observed order dp/dr (ring pressure differences, reported) {label}"),
+            "reference",
+            difference_order,
+            f64::INFINITY,
+        ));
     }
     // sliding mesh vs wall velocity on the finest level (same n_r × n_θ)
     if let Some(other) = case.verify.as_ref().and_then(|v| v.params.get("compare_with")).and_then(|v| v.as_str()) {
@@ -369,9 +391,7 @@ fn couette(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
 fn free_stream(case: &Case) -> Result<Vec<CheckRow>> {
     let name = &case.case.name;
     let Some(fluid) = &case.fluid else { bail!("no [fluid]") };
-    let InitialVelocity::Uniform { velocity } = fluid.initial else {
-        bail!("free-stream check needs fluid.initial.type = \"uniform\"")
-    };
+    let InitialVelocity::Uniform { velocity } = fluid.initial else { bail!("free-stream check needs fluid.initial.type = \"uniform\"") };
     let u0 = Vec3::from(velocity);
     let (solver, summary) = run(case)?;
     let f = solver.state().fluid.as_ref().expect("fluid state");
@@ -458,10 +478,9 @@ fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
                     let e = g / (2.0 * nu) * eta * (height - eta);
                     (e, e + g * h * h / (8.0 * nu))
                 }
-                Some(u) => (
-                    6.0 * u * eta * (height - eta) / (height * height),
-                    6.0 * u / (height * height + 2.0 * h * h) * (eta * (height - eta) + h * h / 4.0),
-                ),
+                Some(u) => {
+                    (6.0 * u * eta * (height - eta) / (height * height), 6.0 * u / (height * height + 2.0 * h * h) * (eta * (height - eta) + h * h / 4.0))
+                }
             };
             let target = if uniform { discrete } else { exact };
             let err = fluid.velocity[cell][0] - target;
@@ -495,9 +514,7 @@ fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
 fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
     let name = &case.case.name;
     let fluid = case.fluid.as_ref().ok_or_else(|| anyhow!("no [fluid]"))?;
-    let InitialVelocity::TaylorGreen { speed, length } = fluid.initial else {
-        bail!("needs fluid.initial.type = \"taylor_green\"")
-    };
+    let InitialVelocity::TaylorGreen { speed, length } = fluid.initial else { bail!("needs fluid.initial.type = \"taylor_green\"") };
     let nu = fluid.kinematic_viscosity;
     let mut rows = Vec::new();
     let mut errors = Vec::new();

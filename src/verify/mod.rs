@@ -53,7 +53,16 @@ impl CheckRow {
 
     /// A row that passes when `value ≤ maximum` (imbalances, errors with no exact target).
     pub fn at_most(case: &str, quantity: impl Into<String>, solver: &str, value: f64, maximum: f64) -> Self {
-        Self { case: case.into(), quantity: quantity.into(), solver: solver.into(), value, reference: 0.0, error: value.abs(), tolerance: maximum, pass: value.abs() <= maximum }
+        Self {
+            case: case.into(),
+            quantity: quantity.into(),
+            solver: solver.into(),
+            value,
+            reference: 0.0,
+            error: value.abs(),
+            tolerance: maximum,
+            pass: value.abs() <= maximum,
+        }
     }
 }
 
@@ -78,11 +87,7 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
     if fluid::CHECKS.contains(&check) {
         return fluid::run_check(case, check, full);
     }
-    anyhow::bail!(
-        "{}: unknown verification check `{check}` in [verify] check; known checks: {}",
-        case.path.display(),
-        known_checks().join(", ")
-    )
+    anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
 /// Names accepted in `[verify] check`.

@@ -99,7 +99,16 @@ pub fn explicit_stress(g: &[Vec3; 3], s: &Vec3) -> Vec3 {
 /// Owner weight λ of the convected face value (spec §8.10), as the reference's `schemes`.
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub fn convection_weight(scheme: ConvectionScheme, linear_fraction: f64, weight: f64, delta: &Vec3, flux: f64, u_p: Vec3, u_n: Vec3, grad_upwind: impl Fn(bool) -> [Vec3; 3]) -> f64 {
+pub fn convection_weight(
+    scheme: ConvectionScheme,
+    linear_fraction: f64,
+    weight: f64,
+    delta: &Vec3,
+    flux: f64,
+    u_p: Vec3,
+    u_n: Vec3,
+    grad_upwind: impl Fn(bool) -> [Vec3; 3],
+) -> f64 {
     let upwind = if flux >= 0.0 { 1.0 } else { 0.0 };
     match scheme {
         ConvectionScheme::Linear => weight,

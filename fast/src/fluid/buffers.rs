@@ -117,7 +117,16 @@ impl StepBuffers {
         }
         let c = &mut self.corrector;
         let d = &mut self.diagnostics;
-        for v in [&mut self.pressure, &mut c.pressure_start, &mut c.pressure_solution, &mut c.neighbour_sum, &mut c.r_au, &mut c.pressure_rhs, &mut d.courant, &mut d.continuity_error] {
+        for v in [
+            &mut self.pressure,
+            &mut c.pressure_start,
+            &mut c.pressure_solution,
+            &mut c.neighbour_sum,
+            &mut c.r_au,
+            &mut c.pressure_rhs,
+            &mut d.courant,
+            &mut d.continuity_error,
+        ] {
             v.resize(n, 0.0);
         }
         for v in [&mut self.boundary_pressure, &mut self.boundary_flux, &mut self.prescribed_boundary_flux] {
@@ -127,7 +136,15 @@ impl StepBuffers {
             v.resize(n_boundary, Vec3::zeros());
         }
         let m = &mut self.momentum_links;
-        for v in [&mut self.link_flux, &mut c.predicted_link_flux, &mut self.ddt_flux_correction, &mut m.owner_row, &mut m.neighbour_row, &mut c.pressure_laplacian_coefficient, &mut c.alpha_predicted_link_flux] {
+        for v in [
+            &mut self.link_flux,
+            &mut c.predicted_link_flux,
+            &mut self.ddt_flux_correction,
+            &mut m.owner_row,
+            &mut m.neighbour_row,
+            &mut c.pressure_laplacian_coefficient,
+            &mut c.alpha_predicted_link_flux,
+        ] {
             v.resize(n_links, 0.0);
         }
         m.explicit_viscous_flux.resize(n_links, Vec3::zeros());

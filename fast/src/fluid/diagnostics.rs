@@ -26,7 +26,14 @@ pub struct StepDiagnostics {
 
 /// All diagnostics of the step. Leaves the summed overlap fluxes of every sliding-interface face
 /// in `work` (`interface_face_flux`, `on_interface`) for [`super::finish_step`].
-pub fn step_diagnostics(disc: &Discretisation, time: TimeStep, alpha: VolumeFractions, solution: StepSolution, work: &mut DiagnosticBuffers, reducer: &mut Reducer) -> StepDiagnostics {
+pub fn step_diagnostics(
+    disc: &Discretisation,
+    time: TimeStep,
+    alpha: VolumeFractions,
+    solution: StepSolution,
+    work: &mut DiagnosticBuffers,
+    reducer: &mut Reducer,
+) -> StepDiagnostics {
     let n = disc.n_cells();
     let dt = time.dt;
     continuity_errors_and_courant(disc, time, alpha, solution, work);

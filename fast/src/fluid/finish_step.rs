@@ -14,7 +14,15 @@ use super::step_inputs::StepSolution;
 /// Writes `solution` into `fluid` and shifts the time levels. `interface` holds the summed
 /// overlap fluxes of the sliding-interface faces ([`super::diagnostics::step_diagnostics`]);
 /// their marks are cleared for the next step.
-pub fn shift_time_levels(fluid: &mut FluidState, links: &Links, boundary: &Boundary, n_internal_faces: usize, solution: StepSolution, interface: &mut DiagnosticBuffers, continuity_global: f64) {
+pub fn shift_time_levels(
+    fluid: &mut FluidState,
+    links: &Links,
+    boundary: &Boundary,
+    n_internal_faces: usize,
+    solution: StepSolution,
+    interface: &mut DiagnosticBuffers,
+    continuity_global: f64,
+) {
     let u = solution.velocity;
     for (c, (velocity, velocity_old)) in fluid.velocity.iter_mut().zip(fluid.velocity_old.iter_mut()).enumerate() {
         *velocity_old = *velocity;

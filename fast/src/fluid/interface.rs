@@ -17,7 +17,15 @@ pub use spillage_model::mesh::InterfaceFrame as Frame;
 /// Appends the overlap links of `interface` at rotor-zone angle `angle` to `links`; each
 /// link's geometry is [`Frame::overlap_link`] (chord of the true circle, centre, d, w, skewness
 /// vector k), its mesh flux the rotor velocity at the overlap centre.
-pub fn push_overlaps(mesh: &Mesh, interface: &SlidingInterface, frame: &Frame, angle: f64, rotor: Option<&Rotor>, overlaps: &mut Vec<Overlap>, links: &mut Links) {
+pub fn push_overlaps(
+    mesh: &Mesh,
+    interface: &SlidingInterface,
+    frame: &Frame,
+    angle: f64,
+    rotor: Option<&Rotor>,
+    overlaps: &mut Vec<Overlap>,
+    links: &mut Links,
+) {
     let radius = interface.radius;
     interface.overlaps_into(angle, overlaps);
     for o in overlaps.iter() {

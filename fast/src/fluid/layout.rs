@@ -134,7 +134,18 @@ impl Links {
 
     /// Appends an overlap link.
     #[allow(clippy::too_many_arguments)]
-    pub fn push_overlap(&mut self, owner: usize, neighbour: usize, area: Vec3, delta: Vec3, weight: f64, skew: Vec3, mesh_flux: f64, rotor_face: usize, stator_face: usize) {
+    pub fn push_overlap(
+        &mut self,
+        owner: usize,
+        neighbour: usize,
+        area: Vec3,
+        delta: Vec3,
+        weight: f64,
+        skew: Vec3,
+        mesh_flux: f64,
+        rotor_face: usize,
+        stator_face: usize,
+    ) {
         let l = self.len();
         self.owner.push(owner as u32);
         self.neighbour.push(neighbour as u32);

@@ -61,14 +61,22 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
     let (velocity, gradient) = (inputs.velocity, inputs.velocity_gradient);
     {
         let link_flux = inputs.link_flux;
-        let (owner_row, neighbour_row, viscous) = (Out::of(&mut links_out.owner_row), Out::of(&mut links_out.neighbour_row), Out::of(&mut links_out.explicit_viscous_flux));
+        let (owner_row, neighbour_row, viscous) =
+            (Out::of(&mut links_out.owner_row), Out::of(&mut links_out.neighbour_row), Out::of(&mut links_out.explicit_viscous_flux));
         par_for(links.len(), |l| {
             let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
             let alpha_f = links.interpolate(l, alpha.current[p], alpha.current[q]);
             let relative_flux = link_flux[l] - links.mesh_flux[l];
-            let owner_weight = convection_weight(numerics.convection, numerics.linear_fraction, links.weight[l], &links.delta[l], relative_flux, vec_of(velocity, p), vec_of(velocity, q), |owner_upwind| {
-                gradient[if owner_upwind { p } else { q }]
-            });
+            let owner_weight = convection_weight(
+                numerics.convection,
+                numerics.linear_fraction,
+                links.weight[l],
+                &links.delta[l],
+                relative_flux,
+                vec_of(velocity, p),
+                vec_of(velocity, q),
+                |owner_upwind| gradient[if owner_upwind { p } else { q }],
+            );
             let diffusivity = nu * alpha_f;
             let diffusion = diffusivity * links.laplacian[l];
             let gradient_f = interpolate_tensor(links.weight[l], &gradient[p], &gradient[q]);
@@ -144,7 +152,14 @@ pub struct MomentumSolve<'a> {
 
 /// Momentum predictor: solves M u = b − V∇P* for every solved component of `velocity`
 /// (starting from it), with `rhs` as the right-hand side buffer.
-pub fn predict(disc: &Discretisation, system: &MomentumSystem, pressure_gradient: &[Vec3], rhs: &mut [Vec<f64>; 3], velocity: &mut [Vec<f64>; 3], solve: MomentumSolve) -> Result<(), SolverError> {
+pub fn predict(
+    disc: &Discretisation,
+    system: &MomentumSystem,
+    pressure_gradient: &[Vec3],
+    rhs: &mut [Vec<f64>; 3],
+    velocity: &mut [Vec<f64>; 3],
+    solve: MomentumSolve,
+) -> Result<(), SolverError> {
     let vol = disc.cell_volumes;
     for j in 0..3 {
         if !disc.solved[j] {

@@ -30,7 +30,9 @@ use super::layout::{solved_components, Adjacency, Boundary, Links, Rotor};
 use super::momentum::{self, MomentumInputs, MomentumSolve};
 use super::pressure_corrector::{self, CorrectorFields, CorrectorInputs, PressureSolver};
 use super::settings::{FastSettings, SolveCounts};
-use super::starting_values::{boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels};
+use super::starting_values::{
+    boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels,
+};
 use super::step_inputs::{Discretisation, StepConstants, StepSolution, TimeStep, VolumeFractions};
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::reduce::Reducer;
@@ -103,7 +105,9 @@ impl FastFluid {
         let rotor = Rotor::from_case(case, &mesh).map_err(unsupported)?;
         let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, PatchKind::Interface { .. }));
         if has_interface_patch && (mesh.interfaces.is_empty() || frame.is_none()) {
-            return Err(unsupported("the mesh has interface patches but no cylindrical sliding-interface description (the fast solver needs the shared z layers)"));
+            return Err(unsupported(
+                "the mesh has interface patches but no cylindrical sliding-interface description (the fast solver needs the shared z layers)",
+            ));
         }
 
         let n = mesh.n_cells();
@@ -343,7 +347,13 @@ impl FastFluid {
         }
 
         // 5. diagnostics (before the time levels shift: ∂α/∂t uses this step's levels), state update, report
-        let solution = StepSolution { velocity: &b.velocity, pressure: &b.pressure, boundary_pressure: &b.boundary_pressure, link_flux: &b.link_flux, boundary_flux: &b.boundary_flux };
+        let solution = StepSolution {
+            velocity: &b.velocity,
+            pressure: &b.pressure,
+            boundary_pressure: &b.boundary_pressure,
+            link_flux: &b.link_flux,
+            boundary_flux: &b.boundary_flux,
+        };
         let diagnostics = step_diagnostics(&disc, time, alpha, solution, &mut b.diagnostics, &mut self.reducer);
         let fluid = &mut self.fluid;
         shift_time_levels(fluid, &self.links, &self.boundary, self.mesh.n_internal_faces, solution, &mut b.diagnostics, diagnostics.continuity_global);
@@ -369,7 +379,13 @@ impl FluidPhase for FastFluid {
     }
 
     /// Allocation-free once `report` has held one step's values.
-    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        fluid: &mut FluidState,
+        load: Option<&ParticleLoad>,
+        report: &mut StepReport,
+    ) -> Result<FluidStepOutcome, SolverError> {
         if load.is_some() {
             return Err(unsupported("two-way coupling (a particle load on the fluid) is not implemented yet"));
         }

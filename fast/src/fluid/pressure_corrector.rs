@@ -92,7 +92,15 @@ fn h_by_a_and_r_au(disc: &Discretisation, momentum: &MomentumSystem, velocity: &
 /// P_b = P_P + d_n ∂P/∂n with ∂P/∂n = (HbyA·S − φ_b)/(rAU|S|) from the cell
 /// (`fixed_flux_extrapolated`), extrapolated linearly from the cell and the one across it
 /// (`fixed_flux_linear`), or 0 (`zero_gradient`); the cell value elsewhere.
-pub fn boundary_pressures(disc: &Discretisation, pressure_wall: PressureWallCondition, h_by_a: &[Vec3], r_au: &[f64], prescribed_flux: &[f64], pressure: &[f64], boundary_pressure: &mut [f64]) {
+pub fn boundary_pressures(
+    disc: &Discretisation,
+    pressure_wall: PressureWallCondition,
+    h_by_a: &[Vec3],
+    r_au: &[f64],
+    prescribed_flux: &[f64],
+    pressure: &[f64],
+    boundary_pressure: &mut [f64],
+) {
     let bnd = disc.boundary;
     for b in 0..bnd.len() {
         let c = bnd.cell[b] as usize;
@@ -143,7 +151,13 @@ pub struct CorrectorFields<'a> {
 
 /// One PISO corrector; returns the initial residual of its first pressure solve (the outer
 /// loop's convergence measure).
-pub fn correct(inputs: &CorrectorInputs, fields: CorrectorFields, work: &mut CorrectorBuffers, solver: &mut PressureSolver, counts: &mut SolveCounts) -> Result<f64, SolverError> {
+pub fn correct(
+    inputs: &CorrectorInputs,
+    fields: CorrectorFields,
+    work: &mut CorrectorBuffers,
+    solver: &mut PressureSolver,
+    counts: &mut SolveCounts,
+) -> Result<f64, SolverError> {
     let disc = &inputs.step.disc;
     let numerics = inputs.step.numerics;
     let prescribed = inputs.prescribed_boundary_flux;
@@ -201,7 +215,8 @@ fn predicted_link_fluxes(inputs: &CorrectorInputs, pressure_gradient: &[Vec3], w
     let alpha = inputs.step.alpha.current;
     let orthogonal = inputs.orthogonal;
     let (r_au, h_by_a, ddt_flux_correction, velocity_gradient) = (&work.r_au, &work.h_by_a, inputs.ddt_flux_correction, inputs.velocity_gradient);
-    let (out_predicted, out_coefficient, out_alpha_predicted) = (Out::of(&mut work.predicted_link_flux), Out::of(&mut work.pressure_laplacian_coefficient), Out::of(&mut work.alpha_predicted_link_flux));
+    let (out_predicted, out_coefficient, out_alpha_predicted) =
+        (Out::of(&mut work.predicted_link_flux), Out::of(&mut work.pressure_laplacian_coefficient), Out::of(&mut work.alpha_predicted_link_flux));
     par_for(links.len(), |l| {
         let (p, q) = (links.owner[l] as usize, links.neighbour[l] as usize);
         let w = links.weight[l];
@@ -235,7 +250,8 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     let (adj, bnd, vol) = (disc.adjacency, disc.boundary, disc.cell_volumes);
     let prescribed = inputs.prescribed_boundary_flux;
     let (coefficient, alpha_predicted, r_au, h_by_a) = (&work.pressure_laplacian_coefficient, &work.alpha_predicted_link_flux, &work.r_au, &work.h_by_a);
-    let (out_diagonal, out_values, out_rhs) = (Out::of(&mut work.pressure_matrix.diag), Out::of(&mut work.pressure_matrix.val), Out::of(&mut work.pressure_rhs));
+    let (out_diagonal, out_values, out_rhs) =
+        (Out::of(&mut work.pressure_matrix.diag), Out::of(&mut work.pressure_matrix.val), Out::of(&mut work.pressure_rhs));
     par_for(disc.n_cells(), |c| {
         let a = alpha.current;
         let mut diag = 0.0;

@@ -18,10 +18,7 @@ pub struct FastSettings {
 
 impl Default for FastSettings {
     fn default() -> Self {
-        FastSettings {
-            pressure: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
-            momentum: Tolerance { tolerance: 1e-12, max_iterations: 2000 },
-        }
+        FastSettings { pressure: Tolerance { tolerance: 1e-12, max_iterations: 2000 }, momentum: Tolerance { tolerance: 1e-12, max_iterations: 2000 } }
     }
 }
 

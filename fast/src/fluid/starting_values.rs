@@ -32,7 +32,13 @@ impl MovedCells<'_> {
 }
 
 /// Cell velocity and pressure at the start of the step: u* = uᵒ = uⁿ of the state, uᵒᵒ, P* = Pⁿ.
-pub fn time_levels_from_state(fluid: &FluidState, velocity: &mut [Vec<f64>; 3], velocity_old: &mut [Vec<f64>; 3], velocity_old_old: &mut [Vec<f64>; 3], pressure: &mut [f64]) {
+pub fn time_levels_from_state(
+    fluid: &FluidState,
+    velocity: &mut [Vec<f64>; 3],
+    velocity_old: &mut [Vec<f64>; 3],
+    velocity_old_old: &mut [Vec<f64>; 3],
+    pressure: &mut [f64],
+) {
     for c in 0..fluid.velocity.len() {
         for j in 0..3 {
             velocity[j][c] = fluid.velocity[c][j];
@@ -113,7 +119,14 @@ pub struct BoundaryStart<'a> {
 
 /// Boundary pressures, fixed velocities and fluxes at the start of the step from the conditions
 /// (rotating walls with the rotor's velocity) and the state.
-pub fn boundary_starting_values(boundary: &Boundary, conditions: &Conditions, rotor: Option<&Rotor>, fluid: &FluidState, n_internal_faces: usize, out: BoundaryStart) {
+pub fn boundary_starting_values(
+    boundary: &Boundary,
+    conditions: &Conditions,
+    rotor: Option<&Rotor>,
+    fluid: &FluidState,
+    n_internal_faces: usize,
+    out: BoundaryStart,
+) {
     for b in 0..boundary.len() {
         let condition = boundary.condition[b] as usize;
         let face = boundary.face[b] as usize;

@@ -241,7 +241,8 @@ impl Amg {
             .iter()
             .enumerate()
             .map(|(k, s)| {
-                let (n, nnz) = if k == 0 { (self.pattern_rows.len() - 1, self.pattern_cols.len()) } else { (self.coarse[k - 1].n, self.coarse[k - 1].col.len()) };
+                let (n, nnz) =
+                    if k == 0 { (self.pattern_rows.len() - 1, self.pattern_cols.len()) } else { (self.coarse[k - 1].n, self.coarse[k - 1].col.len()) };
                 (n, nnz, s.colouring.colours())
             })
             .collect()

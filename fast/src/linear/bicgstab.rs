@@ -1,7 +1,6 @@
 //! Right-preconditioned BiCGStab (van der Vorst 1992) with a diagonal (Jacobi) preconditioner,
 //! for the non-symmetric momentum equation.
 
-
 use super::csr::Csr;
 use super::pcg::normalisation;
 use super::reduce::Reducer;

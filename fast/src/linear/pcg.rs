@@ -4,7 +4,6 @@
 //! preconditioner varies slightly between iterations (the K-cycle AMG of [`super::amg`] is a
 //! nonlinear operator: its inner Krylov steps depend on the residual).
 
-
 use super::csr::Csr;
 use super::reduce::Reducer;
 use super::{par_update, Out, Preconditioner, SolveStats, Tolerance};

@@ -7,7 +7,6 @@
 //! the Poisson equation at least as well as the lexicographic sweep; there is no sequential
 //! dependency chain from row to row, and no division (the inverse diagonal is stored).
 
-
 use super::csr::{Csr, Real};
 use super::{par_range, par_update, Out};
 
@@ -179,7 +178,10 @@ mod tests {
             }
             if pass == 0 {
                 // reverse colour order, rows of a colour in any order (they are uncoupled)
-                visit = (0..2).rev().flat_map(|k| colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize].iter().map(|&r| r as usize)).collect();
+                visit = (0..2)
+                    .rev()
+                    .flat_map(|k| colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize].iter().map(|&r| r as usize))
+                    .collect();
             }
         }
         for i in 0..n {

@@ -111,7 +111,18 @@ impl MeshSection {
                 two_d_layers(*two_d, *n_z)
             }
             MeshSection::RotorStator {
-                r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, two_d,
+                r_inner,
+                r_interface,
+                r_outer,
+                z_min,
+                z_max,
+                n_r_rotor,
+                n_r_stator,
+                n_theta_rotor,
+                n_theta_stator,
+                n_z,
+                radial_grading,
+                two_d,
             } => {
                 positive("mesh.r_inner", *r_inner, "m (the axis itself is not meshed)")?;
                 radii_order(&[("mesh.r_inner", *r_inner), ("mesh.r_interface", *r_interface), ("mesh.r_outer", *r_outer)])?;

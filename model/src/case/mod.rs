@@ -56,12 +56,7 @@ pub struct Case {
 impl Case {
     /// Reads and validates a case file.
     pub fn load(path: &Path) -> Result<Case, CaseError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CaseError {
-            file: path.to_path_buf(),
-            line: None,
-            column: None,
-            kind: CaseErrorKind::Io(e),
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|e| CaseError { file: path.to_path_buf(), line: None, column: None, kind: CaseErrorKind::Io(e) })?;
         Case::from_toml(&text, path)
     }
 
@@ -113,7 +108,11 @@ impl Case {
                         return Err(FieldError::new("rotor.axis", format!("{:?}", rotor.axis), "[0, 0, ±1]: the rotor_stator mesh turns about z"));
                     }
                     if rotor.origin[0] != 0.0 || rotor.origin[1] != 0.0 {
-                        return Err(FieldError::new("rotor.origin", format!("{:?}", rotor.origin), "a point on the z axis ([0, 0, z]): the rotor_stator mesh turns about z"));
+                        return Err(FieldError::new(
+                            "rotor.origin",
+                            format!("{:?}", rotor.origin),
+                            "a point on the z axis ([0, 0, z]): the rotor_stator mesh turns about z",
+                        ));
                     }
                 }
                 Some(MeshSection::RotorStator { .. }) => {

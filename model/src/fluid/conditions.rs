@@ -56,9 +56,13 @@ impl Conditions {
                     origin: Vec3::from(*origin),
                     rotating: *rotating,
                 },
-                BoundaryCondition::VelocityInlet { velocity } => {
-                    Condition::FixedVelocity { velocity: Vec3::from(*velocity), angular_velocity: 0.0, axis: Vec3::zeros(), origin: Vec3::zeros(), rotating: false }
-                }
+                BoundaryCondition::VelocityInlet { velocity } => Condition::FixedVelocity {
+                    velocity: Vec3::from(*velocity),
+                    angular_velocity: 0.0,
+                    axis: Vec3::zeros(),
+                    origin: Vec3::zeros(),
+                    rotating: false,
+                },
                 BoundaryCondition::PressureOutlet { pressure } => {
                     has_fixed_pressure = true;
                     Condition::FixedPressure { pressure: pressure / density }

@@ -15,7 +15,15 @@ use crate::particles::Particle;
 
 /// Per particle (in order), the fluid of the cell containing its centre, `None` outside the mesh.
 /// `dt_old` is the last fluid step (0 before the first: no local acceleration).
-pub fn sample_containing_cell(mesh: &Mesh, fluid: &FluidState, density: f64, kinematic_viscosity: f64, dt_old: f64, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
+pub fn sample_containing_cell(
+    mesh: &Mesh,
+    fluid: &FluidState,
+    density: f64,
+    kinematic_viscosity: f64,
+    dt_old: f64,
+    particles: &[Particle],
+    out: &mut Vec<Option<FluidAtParticle>>,
+) {
     for p in particles {
         out.push(mesh.locate(&p.position).map(|cell| FluidAtParticle {
             density,

@@ -127,7 +127,11 @@ impl BoundaryCondition {
                     return Err(FieldError::new(format!("{key}.velocity"), format!("{velocity:?}"), "no velocity on a rotating wall (its velocity is ω×r)"));
                 }
                 if *rotating && *angular_velocity != 0.0 {
-                    return Err(FieldError::new(format!("{key}.angular_velocity"), angular_velocity, "0 on a wall with rotating = true (it turns with the rotor)"));
+                    return Err(FieldError::new(
+                        format!("{key}.angular_velocity"),
+                        angular_velocity,
+                        "0 on a wall with rotating = true (it turns with the rotor)",
+                    ));
                 }
                 if axis.iter().map(|a| a * a).sum::<f64>().sqrt() < 1e-12 {
                     return Err(FieldError::new(format!("{key}.axis"), format!("{axis:?}"), "a non-zero direction vector"));
@@ -147,7 +151,6 @@ impl BoundaryCondition {
     }
 }
 
-
 impl BoundaryCondition {
     /// Largest speed this condition imposes, given the largest radius of the mesh (for walls
     /// turning in place). `None` when it imposes no velocity. A wall with `rotating = true`
@@ -155,9 +158,7 @@ impl BoundaryCondition {
     pub fn imposed_speed(&self, r_max: f64) -> Option<f64> {
         let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         match self {
-            BoundaryCondition::Wall { velocity, angular_velocity, origin, .. } => {
-                Some(norm(velocity) + angular_velocity.abs() * (r_max + norm(origin)))
-            }
+            BoundaryCondition::Wall { velocity, angular_velocity, origin, .. } => Some(norm(velocity) + angular_velocity.abs() * (r_max + norm(origin))),
             BoundaryCondition::VelocityInlet { velocity } => Some(norm(velocity)),
             BoundaryCondition::PressureOutlet { .. } | BoundaryCondition::Symmetry => None,
         }

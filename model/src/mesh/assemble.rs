@@ -7,9 +7,7 @@
 //! periodic faces.
 
 use super::geometry::{hex_face, HEX_FACES};
-use super::{
-    CellZone, Locator, Mesh, MeshError, Patch, PatchKind, PeriodicPair, Vec3, ZoneRotation,
-};
+use super::{CellZone, Locator, Mesh, MeshError, Patch, PatchKind, PeriodicPair, Vec3, ZoneRotation};
 
 /// A zone as the generator describes it.
 pub struct ZoneInput {
@@ -34,10 +32,7 @@ pub struct HexCells {
 
 /// Build the mesh. `patch_of(cell, local_face)` names the patch (index into
 /// `input.patches`) of each unmatched cell face, see [`HEX_FACES`] for local face numbers.
-pub fn assemble(
-    input: HexCells,
-    patch_of: impl Fn(usize, usize) -> Result<usize, MeshError>,
-) -> Result<Mesh, MeshError> {
+pub fn assemble(input: HexCells, patch_of: impl Fn(usize, usize) -> Result<usize, MeshError>) -> Result<Mesh, MeshError> {
     let n_cells = input.cells.len();
     let mut records: Vec<([usize; 4], usize, usize)> = Vec::with_capacity(6 * n_cells);
     for (cell, ids) in input.cells.iter().enumerate() {
@@ -64,10 +59,7 @@ pub fn assemble(
                 let (_, cell, local) = records[i];
                 let patch = patch_of(cell, local)?;
                 if patch >= input.patches.len() {
-                    return Err(MeshError::Topology(format!(
-                        "cell {cell} face {local} assigned to patch {patch}, only {} exist",
-                        input.patches.len()
-                    )));
+                    return Err(MeshError::Topology(format!("cell {cell} face {local} assigned to patch {patch}, only {} exist", input.patches.len())));
                 }
                 boundary.push((patch, cell, local));
             }
@@ -75,29 +67,19 @@ pub fn assemble(
                 let (_, a, local_a) = records[i];
                 let (_, b, local_b) = records[i + 1];
                 if a == b {
-                    return Err(MeshError::Topology(format!(
-                        "cell {a} is its own neighbour"
-                    )));
+                    return Err(MeshError::Topology(format!("cell {a} is its own neighbour")));
                 }
                 // records are sorted, so a < b: the lower cell owns the face.
                 internal.push((a, b, local_a, local_b));
             }
-            n => {
-                return Err(MeshError::Topology(format!(
-                    "{n} cells share the face with points {:?}",
-                    records[i].0
-                )))
-            }
+            n => return Err(MeshError::Topology(format!("{n} cells share the face with points {:?}", records[i].0))),
         }
         i = j;
     }
     internal.sort_unstable();
     for pair in internal.windows(2) {
         if pair[0].0 == pair[1].0 && pair[0].1 == pair[1].1 {
-            return Err(MeshError::Topology(format!(
-                "cells {} and {} share more than one face",
-                pair[0].0, pair[0].1
-            )));
+            return Err(MeshError::Topology(format!("cells {} and {} share more than one face", pair[0].0, pair[0].1)));
         }
     }
     boundary.sort_unstable();
@@ -112,16 +94,7 @@ pub fn assemble(
         face_owner.push(owner);
         face_neighbour.push(neighbour);
     }
-    let mut patches: Vec<Patch> = input
-        .patches
-        .iter()
-        .map(|(name, kind)| Patch {
-            name: name.clone(),
-            kind: kind.clone(),
-            start: 0,
-            len: 0,
-        })
-        .collect();
+    let mut patches: Vec<Patch> = input.patches.iter().map(|(name, kind)| Patch { name: name.clone(), kind: kind.clone(), start: 0, len: 0 }).collect();
     for (k, &(patch, cell, local)) in boundary.iter().enumerate() {
         if patches[patch].len == 0 {
             patches[patch].start = n_internal_faces + k;
@@ -172,23 +145,10 @@ pub fn assemble(
 }
 
 /// Sort matched faces whose two copies lie apart into the generator's periodic pairs.
-fn periodic_pairs(
-    input: &HexCells,
-    internal: &[(usize, usize, usize, usize)],
-) -> Result<Vec<PeriodicPair>, MeshError> {
-    let mut pairs: Vec<PeriodicPair> = input
-        .periodic
-        .iter()
-        .map(|(name, shift)| PeriodicPair {
-            name: name.clone(),
-            faces: Vec::new(),
-            shift: *shift,
-        })
-        .collect();
-    let (low, high) = input.points.iter().fold(
-        (Vec3::repeat(f64::MAX), Vec3::repeat(f64::MIN)),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    );
+fn periodic_pairs(input: &HexCells, internal: &[(usize, usize, usize, usize)]) -> Result<Vec<PeriodicPair>, MeshError> {
+    let mut pairs: Vec<PeriodicPair> =
+        input.periodic.iter().map(|(name, shift)| PeriodicPair { name: name.clone(), faces: Vec::new(), shift: *shift }).collect();
+    let (low, high) = input.points.iter().fold((Vec3::repeat(f64::MAX), Vec3::repeat(f64::MIN)), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
     // Two copies of one face differ by a periodic shift (order of the domain size) or coincide
     // up to round-off of the point coordinates (order 1e-16 of the domain size).
     let tolerance = 1e-9 * (high - low).norm();
@@ -199,25 +159,18 @@ fn periodic_pairs(
         if shift.norm() <= tolerance {
             continue;
         }
-        let pair = pairs
-            .iter_mut()
-            .find(|p| (p.shift - shift).norm() <= tolerance)
-            .ok_or_else(|| {
-                MeshError::Topology(format!(
-                    "face {face} between cells {owner} and {neighbour} is shifted by {shift:?}, \
+        let pair = pairs.iter_mut().find(|p| (p.shift - shift).norm() <= tolerance).ok_or_else(|| {
+            MeshError::Topology(format!(
+                "face {face} between cells {owner} and {neighbour} is shifted by {shift:?}, \
                      which matches no periodic pair"
-                ))
-            })?;
+            ))
+        })?;
         pair.faces.push(face);
     }
     Ok(pairs)
 }
 
-fn cell_face_lists(
-    n_cells: usize,
-    face_owner: &[usize],
-    face_neighbour: &[usize],
-) -> (Vec<usize>, Vec<usize>) {
+fn cell_face_lists(n_cells: usize, face_owner: &[usize], face_neighbour: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let mut counts = vec![0usize; n_cells + 1];
     for &c in face_owner.iter().chain(face_neighbour) {
         counts[c + 1] += 1;
@@ -245,11 +198,7 @@ fn cell_face_lists(
     (offsets, faces)
 }
 
-fn build_zones(
-    input: &HexCells,
-    cell_face_offsets: &[usize],
-    cell_faces: &[usize],
-) -> Result<(Vec<CellZone>, Vec<usize>), MeshError> {
+fn build_zones(input: &HexCells, cell_face_offsets: &[usize], cell_faces: &[usize]) -> Result<(Vec<CellZone>, Vec<usize>), MeshError> {
     let n_cells = input.cells.len();
     let mut cell_zone = vec![usize::MAX; n_cells];
     let mut zones = Vec::with_capacity(input.zones.len());
@@ -270,14 +219,7 @@ fn build_zones(
         points.dedup();
         faces.sort_unstable();
         faces.dedup();
-        zones.push(CellZone {
-            name: zone.name.clone(),
-            cells,
-            rotation: zone.rotation.clone(),
-            points,
-            faces,
-            reference_geometry: None,
-        });
+        zones.push(CellZone { name: zone.name.clone(), cells, rotation: zone.rotation.clone(), points, faces, reference_geometry: None });
     }
     if let Some(c) = cell_zone.iter().position(|&z| z == usize::MAX) {
         return Err(MeshError::Topology(format!("cell {c} is in no zone")));
@@ -286,14 +228,9 @@ fn build_zones(
         if zone.rotation.is_none() {
             continue;
         }
-        let foreign = input.cells.iter().enumerate().find(|(c, ids)| {
-            cell_zone[*c] != z && ids.iter().any(|p| zone.points.binary_search(p).is_ok())
-        });
+        let foreign = input.cells.iter().enumerate().find(|(c, ids)| cell_zone[*c] != z && ids.iter().any(|p| zone.points.binary_search(p).is_ok()));
         if let Some((c, _)) = foreign {
-            return Err(MeshError::Topology(format!(
-                "rotating zone `{}` shares points with cell {c} outside it",
-                zone.name
-            )));
+            return Err(MeshError::Topology(format!("rotating zone `{}` shares points with cell {c} outside it", zone.name)));
         }
     }
     Ok((zones, cell_zone))

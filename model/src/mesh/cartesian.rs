@@ -25,13 +25,7 @@ pub struct BoxSpec {
 impl BoxSpec {
     /// Uniform, non-periodic box.
     pub fn uniform(min: Vec3, max: Vec3, cells: [usize; 3]) -> Self {
-        BoxSpec {
-            min,
-            max,
-            cells,
-            grading: [1.0; 3],
-            periodic: [false; 3],
-        }
+        BoxSpec { min, max, cells, grading: [1.0; 3], periodic: [false; 3] }
     }
 }
 
@@ -39,19 +33,9 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// `n + 1` edges from `start` to `end` whose interval sizes grow geometrically so that
 /// last / first = `ratio`: size_k = size_0 q^k with q = ratio^(1/(n−1)).
-pub(crate) fn graded_edges(
-    name: &str,
-    start: f64,
-    end: f64,
-    n: usize,
-    ratio: f64,
-) -> Result<Vec<f64>, MeshError> {
+pub(crate) fn graded_edges(name: &str, start: f64, end: f64, n: usize, ratio: f64) -> Result<Vec<f64>, MeshError> {
     if !(ratio.is_finite() && ratio > 0.0) {
-        return Err(MeshError::input(
-            name,
-            ratio,
-            "grading must be a finite ratio > 0",
-        ));
+        return Err(MeshError::input(name, ratio, "grading must be a finite ratio > 0"));
     }
     let length = end - start;
     let mut edges = Vec::with_capacity(n + 1);
@@ -81,20 +65,12 @@ impl Mesh {
             let axis = AXES[d];
             let (lo, hi) = (spec.min[d], spec.max[d]);
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                return Err(MeshError::input(
-                    &format!("box.min/max.{axis}"),
-                    format!("[{lo}, {hi}]"),
-                    "need finite min < max",
-                ));
+                return Err(MeshError::input(&format!("box.min/max.{axis}"), format!("[{lo}, {hi}]"), "need finite min < max"));
             }
             let n = spec.cells[d];
             let least = if spec.periodic[d] { 3 } else { 1 };
             if n < least {
-                return Err(MeshError::input(
-                    &format!("box.cells.{axis}"),
-                    n,
-                    &format!("need at least {least} cells in this direction"),
-                ));
+                return Err(MeshError::input(&format!("box.cells.{axis}"), n, &format!("need at least {least} cells in this direction")));
             }
             edges[d] = graded_edges(&format!("box.grading.{axis}"), lo, hi, n, spec.grading[d])?;
         }
@@ -157,17 +133,11 @@ impl Mesh {
             canonical,
             patches,
             periodic,
-            zones: vec![ZoneInput {
-                name: "fluid".to_string(),
-                cells: (0..n_cells).collect(),
-                rotation: None,
-            }],
+            zones: vec![ZoneInput { name: "fluid".to_string(), cells: (0..n_cells).collect(), rotation: None }],
             locator: Locator::Box { edges },
         };
         assemble(input, |cell, local| match patch_of_local[local] {
-            usize::MAX => Err(MeshError::Topology(format!(
-                "cell {cell} face {local} lies on a periodic side but found no partner"
-            ))),
+            usize::MAX => Err(MeshError::Topology(format!("cell {cell} face {local} lies on a periodic side but found no partner"))),
             patch => Ok(patch),
         })
     }
@@ -179,13 +149,7 @@ mod tests {
     use crate::mesh::test_support::*;
 
     fn graded_box() -> BoxSpec {
-        BoxSpec {
-            min: Vec3::new(-1.0, 0.5, 2.0),
-            max: Vec3::new(2.0, 1.7, 2.9),
-            cells: [5, 4, 3],
-            grading: [3.0, 0.25, 1.0],
-            periodic: [false; 3],
-        }
+        BoxSpec { min: Vec3::new(-1.0, 0.5, 2.0), max: Vec3::new(2.0, 1.7, 2.9), cells: [5, 4, 3], grading: [3.0, 0.25, 1.0], periodic: [false; 3] }
     }
 
     #[test]
@@ -195,18 +159,12 @@ mod tests {
         let total: f64 = mesh.cell_volumes.iter().sum();
         let exact = 3.0 * 1.2 * 0.9;
         // Round-off of ~60 summed products of O(1) numbers.
-        assert!(
-            (total - exact).abs() < 1e-14 * exact,
-            "total {total} vs {exact}"
-        );
+        assert!((total - exact).abs() < 1e-14 * exact, "total {total} vs {exact}");
         for (c, v) in mesh.cell_volumes.iter().enumerate() {
             let ids = mesh.cell_points[c];
             let diagonal = mesh.points[ids[6]] - mesh.points[ids[0]];
             let product = diagonal.x * diagonal.y * diagonal.z;
-            assert!(
-                (v - product).abs() < 1e-14 * product,
-                "cell {c}: {v} vs {product}"
-            );
+            assert!((v - product).abs() < 1e-14 * product, "cell {c}: {v} vs {product}");
         }
     }
 
@@ -219,10 +177,7 @@ mod tests {
         let q = 3.0f64.powf(0.25);
         for k in 1..5 {
             let growth = (edges[k + 1] - edges[k]) / (edges[k] - edges[k - 1]);
-            assert!(
-                (growth - q).abs() < 1e-13,
-                "interval {k}: growth {growth} vs {q}"
-            );
+            assert!((growth - q).abs() < 1e-13, "interval {k}: growth {growth} vs {q}");
         }
         assert_eq!(edges[0], spec.min.x);
         assert_eq!(edges[5], spec.max.x);
@@ -238,10 +193,7 @@ mod tests {
         assert_eq!(mesh.n_internal_faces, 4 * 4 * 3 + 5 * 3 * 3 + 5 * 4 * 2);
         assert_eq!(mesh.n_faces() - mesh.n_internal_faces, 2 * (20 + 12 + 15));
         let names: Vec<&str> = mesh.patches.iter().map(|p| p.name.as_str()).collect();
-        assert_eq!(
-            names,
-            ["x_min", "x_max", "y_min", "y_max", "z_min", "z_max"]
-        );
+        assert_eq!(names, ["x_min", "x_max", "y_min", "y_max", "z_min", "z_max"]);
         let x_min = mesh.patch("x_min").unwrap();
         assert_eq!(x_min.len, 4 * 3);
         for f in x_min.faces() {
@@ -267,13 +219,7 @@ mod tests {
 
     #[test]
     fn fully_periodic_box_has_six_internal_faces_per_cell() {
-        let spec = BoxSpec {
-            min: Vec3::new(0.0, 0.0, 0.0),
-            max: Vec3::new(2.0, 3.0, 0.5),
-            cells: [4, 3, 5],
-            grading: [1.0, 2.0, 1.0],
-            periodic: [true; 3],
-        };
+        let spec = BoxSpec { min: Vec3::new(0.0, 0.0, 0.0), max: Vec3::new(2.0, 3.0, 0.5), cells: [4, 3, 5], grading: [1.0, 2.0, 1.0], periodic: [true; 3] };
         let mesh = Mesh::cartesian_box(&spec).unwrap();
         assert!(mesh.patches.is_empty());
         assert_eq!(mesh.n_faces(), mesh.n_internal_faces);
@@ -307,32 +253,18 @@ mod tests {
             let d = mesh.face_areas[f].iamax();
             let expected = 0.5 * (width(mesh.face_owner[f], d) + width(mesh.face_neighbour[f], d));
             let delta = mesh.face_delta[f];
-            assert!(
-                (delta.norm() - expected).abs() < 1e-14,
-                "face {f} delta {delta:?}"
-            );
-            assert!(
-                (delta[d].abs() - expected).abs() < 1e-14,
-                "face {f} delta {delta:?}"
-            );
+            assert!((delta.norm() - expected).abs() < 1e-14, "face {f} delta {delta:?}");
+            assert!((delta[d].abs() - expected).abs() < 1e-14, "face {f} delta {delta:?}");
         }
     }
 
     #[test]
     fn two_d_mesh_marks_front_and_back_empty() {
-        let mut mesh = Mesh::cartesian_box(&BoxSpec::uniform(
-            Vec3::zeros(),
-            Vec3::new(1.0, 1.0, 0.1),
-            [4, 4, 1],
-        ))
-        .unwrap();
+        let mut mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(1.0, 1.0, 0.1), [4, 4, 1])).unwrap();
         mesh.set_patch_kind("z_min", PatchKind::Empty).unwrap();
         mesh.set_patch_kind("z_max", PatchKind::Empty).unwrap();
         assert_eq!(mesh.patch("z_max").unwrap().kind, PatchKind::Empty);
-        assert!(matches!(
-            mesh.set_patch_kind("front", PatchKind::Empty),
-            Err(MeshError::UnknownPatch { .. })
-        ));
+        assert!(matches!(mesh.set_patch_kind("front", PatchKind::Empty), Err(MeshError::UnknownPatch { .. })));
     }
 
     #[test]
@@ -343,23 +275,14 @@ mod tests {
         assert!(error.contains("box.cells.y"), "{error}");
         let mut spec = graded_box();
         spec.max.z = spec.min.z;
-        assert!(Mesh::cartesian_box(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("box.min/max.z"));
+        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.min/max.z"));
         let mut spec = graded_box();
         spec.grading[0] = -1.0;
-        assert!(Mesh::cartesian_box(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("box.grading.x"));
+        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.grading.x"));
         let mut spec = graded_box();
         spec.periodic[2] = true;
         spec.cells[2] = 2;
-        assert!(Mesh::cartesian_box(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("box.cells.z"));
+        assert!(Mesh::cartesian_box(&spec).unwrap_err().to_string().contains("box.cells.z"));
     }
 
     #[test]
@@ -373,10 +296,7 @@ mod tests {
             // Independent check: the cell's own corner box contains the point.
             let ids = mesh.cell_points[cell];
             let (lo, hi) = (mesh.points[ids[0]], mesh.points[ids[6]]);
-            assert!(
-                (0..3).all(|d| lo[d] <= p[d] && p[d] <= hi[d]),
-                "{p:?} not in {cell}"
-            );
+            assert!((0..3).all(|d| lo[d] <= p[d] && p[d] <= hi[d]), "{p:?} not in {cell}");
             assert!(mesh.contains(cell, &p));
         }
         assert_eq!(mesh.locate(&Vec3::new(2.1, 1.0, 2.5)), None);

@@ -17,9 +17,7 @@
 use super::assemble::{assemble, HexCells, ZoneInput};
 use super::cartesian::graded_edges;
 use super::locate::CylinderBlock;
-use super::{
-    InterfaceSide, Locator, Mesh, MeshError, PatchKind, SlidingInterface, Vec3, ZoneRotation,
-};
+use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind, SlidingInterface, Vec3, ZoneRotation};
 use std::f64::consts::TAU;
 
 /// A single-zone annulus R_i ≤ r ≤ R_o, z_min ≤ z ≤ z_max.
@@ -65,14 +63,7 @@ pub struct RotorStatorSpec {
 }
 
 /// Appends one cylindrical block's points and cells; returns its locator entry.
-fn add_block(
-    points: &mut Vec<Vec3>,
-    cells: &mut Vec<[usize; 8]>,
-    r_edges: Vec<f64>,
-    n_theta: usize,
-    z_edges: Vec<f64>,
-    zone: usize,
-) -> CylinderBlock {
+fn add_block(points: &mut Vec<Vec3>, cells: &mut Vec<[usize; 8]>, r_edges: Vec<f64>, n_theta: usize, z_edges: Vec<f64>, zone: usize) -> CylinderBlock {
     let (n_r, n_z) = (r_edges.len() - 1, z_edges.len() - 1);
     let first_point = points.len();
     let first_cell = cells.len();
@@ -86,8 +77,7 @@ fn add_block(
         }
     }
     // θ index n_theta is θ index 0: the wrap shares points, so its faces match as internal.
-    let point_id =
-        |i: usize, j: usize, k: usize| first_point + i + (n_r + 1) * (j % n_theta + n_theta * k);
+    let point_id = |i: usize, j: usize, k: usize| first_point + i + (n_r + 1) * (j % n_theta + n_theta * k);
     for k in 0..n_z {
         for j in 0..n_theta {
             for i in 0..n_r {
@@ -104,30 +94,16 @@ fn add_block(
             }
         }
     }
-    CylinderBlock {
-        r_edges,
-        n_theta,
-        z_edges,
-        first_cell,
-        zone,
-    }
+    CylinderBlock { r_edges, n_theta, z_edges, first_cell, zone }
 }
 
 fn check_radii(names: &[&str], radii: &[f64]) -> Result<(), MeshError> {
     if !(radii[0].is_finite() && radii[0] > 0.0) {
-        return Err(MeshError::input(
-            names[0],
-            radii[0],
-            "must be finite and > 0 (a block cannot contain the axis)",
-        ));
+        return Err(MeshError::input(names[0], radii[0], "must be finite and > 0 (a block cannot contain the axis)"));
     }
     for k in 1..radii.len() {
         if !(radii[k].is_finite() && radii[k] > radii[k - 1]) {
-            return Err(MeshError::input(
-                names[k],
-                radii[k],
-                &format!("must be finite and > {} = {}", names[k - 1], radii[k - 1]),
-            ));
+            return Err(MeshError::input(names[k], radii[k], &format!("must be finite and > {} = {}", names[k - 1], radii[k - 1])));
         }
     }
     Ok(())
@@ -142,11 +118,7 @@ fn check_count(name: &str, n: usize, least: usize) -> Result<(), MeshError> {
 
 fn check_heights(z_min: f64, z_max: f64) -> Result<(), MeshError> {
     if !(z_min.is_finite() && z_max.is_finite() && z_min < z_max) {
-        return Err(MeshError::input(
-            "z_min/z_max",
-            format!("[{z_min}, {z_max}]"),
-            "need finite z_min < z_max",
-        ));
+        return Err(MeshError::input("z_min/z_max", format!("[{z_min}, {z_max}]"), "need finite z_min < z_max"));
     }
     Ok(())
 }
@@ -165,13 +137,7 @@ impl Mesh {
         check_count("n_r", spec.n_r, 1)?;
         check_count("n_theta", spec.n_theta, 3)?;
         check_count("n_z", spec.n_z, 1)?;
-        let r_edges = graded_edges(
-            "radial_grading",
-            spec.r_inner,
-            spec.r_outer,
-            spec.n_r,
-            spec.radial_grading,
-        )?;
+        let r_edges = graded_edges("radial_grading", spec.r_inner, spec.r_outer, spec.n_r, spec.radial_grading)?;
         let z_edges = graded_edges("z", spec.z_min, spec.z_max, spec.n_z, 1.0)?;
         let (mut points, mut cells) = (Vec::new(), Vec::new());
         let block = add_block(&mut points, &mut cells, r_edges, spec.n_theta, z_edges, 0);
@@ -180,76 +146,36 @@ impl Mesh {
             canonical: (0..points.len()).collect(),
             points,
             cells,
-            patches: ["inner", "outer", "z_min", "z_max"]
-                .iter()
-                .map(|n| (n.to_string(), PatchKind::Patch))
-                .collect(),
+            patches: ["inner", "outer", "z_min", "z_max"].iter().map(|n| (n.to_string(), PatchKind::Patch)).collect(),
             periodic: Vec::new(),
-            zones: vec![ZoneInput {
-                name: "fluid".into(),
-                cells: (0..n_cells).collect(),
-                rotation: None,
-            }],
-            locator: Locator::Cylindrical {
-                blocks: vec![block],
-            },
+            zones: vec![ZoneInput { name: "fluid".into(), cells: (0..n_cells).collect(), rotation: None }],
+            locator: Locator::Cylindrical { blocks: vec![block] },
         };
         assemble(input, |cell, local| match local {
             LOCAL_INNER => Ok(0),
             LOCAL_OUTER => Ok(1),
             LOCAL_Z_MIN => Ok(2),
             LOCAL_Z_MAX => Ok(3),
-            _ => Err(MeshError::Topology(format!(
-                "θ face {local} of cell {cell} is unmatched"
-            ))),
+            _ => Err(MeshError::Topology(format!("θ face {local} of cell {cell} is unmatched"))),
         })
     }
 
     /// Generate the rotor/stator annulus pair described by `spec`.
     pub fn rotor_stator(spec: &RotorStatorSpec) -> Result<Mesh, MeshError> {
-        check_radii(
-            &["r_inner", "r_interface", "r_outer"],
-            &[spec.r_inner, spec.r_interface, spec.r_outer],
-        )?;
+        check_radii(&["r_inner", "r_interface", "r_outer"], &[spec.r_inner, spec.r_interface, spec.r_outer])?;
         check_heights(spec.z_min, spec.z_max)?;
         check_count("n_r_rotor", spec.n_r_rotor, 1)?;
         check_count("n_r_stator", spec.n_r_stator, 1)?;
         check_count("n_theta_rotor", spec.n_theta_rotor, 3)?;
         check_count("n_theta_stator", spec.n_theta_stator, 3)?;
         check_count("n_z", spec.n_z, 1)?;
-        let rotor_r = graded_edges(
-            "radial_grading_rotor",
-            spec.r_inner,
-            spec.r_interface,
-            spec.n_r_rotor,
-            spec.radial_grading_rotor,
-        )?;
-        let stator_r = graded_edges(
-            "radial_grading_stator",
-            spec.r_interface,
-            spec.r_outer,
-            spec.n_r_stator,
-            spec.radial_grading_stator,
-        )?;
+        let rotor_r = graded_edges("radial_grading_rotor", spec.r_inner, spec.r_interface, spec.n_r_rotor, spec.radial_grading_rotor)?;
+        let stator_r = graded_edges("radial_grading_stator", spec.r_interface, spec.r_outer, spec.n_r_stator, spec.radial_grading_stator)?;
         let z_edges = graded_edges("z", spec.z_min, spec.z_max, spec.n_z, 1.0)?;
         let (mut points, mut cells) = (Vec::new(), Vec::new());
-        let rotor = add_block(
-            &mut points,
-            &mut cells,
-            rotor_r,
-            spec.n_theta_rotor,
-            z_edges.clone(),
-            0,
-        );
+        let rotor = add_block(&mut points, &mut cells, rotor_r, spec.n_theta_rotor, z_edges.clone(), 0);
         let n_rotor_cells = cells.len();
-        let stator = add_block(
-            &mut points,
-            &mut cells,
-            stator_r,
-            spec.n_theta_stator,
-            z_edges.clone(),
-            1,
-        );
+        let stator = add_block(&mut points, &mut cells, stator_r, spec.n_theta_stator, z_edges.clone(), 1);
         let n_cells = cells.len();
         let interface_kind = |side| PatchKind::Interface { interface: 0, side };
         let patches = vec![
@@ -257,14 +183,8 @@ impl Mesh {
             ("outer".to_string(), PatchKind::Patch),
             ("z_min".to_string(), PatchKind::Patch),
             ("z_max".to_string(), PatchKind::Patch),
-            (
-                "interface_rotor".to_string(),
-                interface_kind(InterfaceSide::Rotor),
-            ),
-            (
-                "interface_stator".to_string(),
-                interface_kind(InterfaceSide::Stator),
-            ),
+            ("interface_rotor".to_string(), interface_kind(InterfaceSide::Rotor)),
+            ("interface_stator".to_string(), interface_kind(InterfaceSide::Stator)),
         ];
         let input = HexCells {
             canonical: (0..points.len()).collect(),
@@ -276,21 +196,11 @@ impl Mesh {
                 ZoneInput {
                     name: "rotor".into(),
                     cells: (0..n_rotor_cells).collect(),
-                    rotation: Some(ZoneRotation {
-                        axis: Vec3::z(),
-                        origin: Vec3::zeros(),
-                        angle: 0.0,
-                    }),
+                    rotation: Some(ZoneRotation { axis: Vec3::z(), origin: Vec3::zeros(), angle: 0.0 }),
                 },
-                ZoneInput {
-                    name: "stator".into(),
-                    cells: (n_rotor_cells..n_cells).collect(),
-                    rotation: None,
-                },
+                ZoneInput { name: "stator".into(), cells: (n_rotor_cells..n_cells).collect(), rotation: None },
             ],
-            locator: Locator::Cylindrical {
-                blocks: vec![rotor, stator],
-            },
+            locator: Locator::Cylindrical { blocks: vec![rotor, stator] },
         };
         let mut mesh = assemble(input, |cell, local| {
             let in_rotor = cell < n_rotor_cells;
@@ -301,25 +211,11 @@ impl Mesh {
                 (LOCAL_Z_MAX, _) => Ok(3),
                 (LOCAL_OUTER, true) => Ok(4),
                 (LOCAL_INNER, false) => Ok(5),
-                _ => Err(MeshError::Topology(format!(
-                    "θ face {local} of cell {cell} is unmatched"
-                ))),
+                _ => Err(MeshError::Topology(format!("θ face {local} of cell {cell} is unmatched"))),
             }
         })?;
-        let rotor_faces = interface_faces(
-            &mesh,
-            "interface_rotor",
-            0,
-            spec.n_r_rotor,
-            spec.n_theta_rotor,
-        )?;
-        let stator_faces = interface_faces(
-            &mesh,
-            "interface_stator",
-            n_rotor_cells,
-            spec.n_r_stator,
-            spec.n_theta_stator,
-        )?;
+        let rotor_faces = interface_faces(&mesh, "interface_rotor", 0, spec.n_r_rotor, spec.n_theta_rotor)?;
+        let stator_faces = interface_faces(&mesh, "interface_stator", n_rotor_cells, spec.n_r_stator, spec.n_theta_stator)?;
         let theta_edges = |n: usize| (0..=n).map(|j| TAU * j as f64 / n as f64).collect();
         mesh.interfaces.push(SlidingInterface {
             name: "interface".into(),
@@ -339,13 +235,7 @@ impl Mesh {
 }
 
 /// Faces of an interface patch ordered by (z layer, θ index), from their owners' indices.
-fn interface_faces(
-    mesh: &Mesh,
-    patch: &str,
-    first_cell: usize,
-    n_r: usize,
-    n_theta: usize,
-) -> Result<Vec<usize>, MeshError> {
+fn interface_faces(mesh: &Mesh, patch: &str, first_cell: usize, n_r: usize, n_theta: usize) -> Result<Vec<usize>, MeshError> {
     let range = mesh.patch(patch)?.faces();
     let mut faces = vec![usize::MAX; range.len()];
     for f in range {
@@ -354,9 +244,7 @@ fn interface_faces(
         faces[k * n_theta + j] = f;
     }
     if faces.contains(&usize::MAX) {
-        return Err(MeshError::Topology(format!(
-            "patch {patch} misses interface faces"
-        )));
+        return Err(MeshError::Topology(format!("patch {patch} misses interface faces")));
     }
     Ok(faces)
 }
@@ -368,16 +256,7 @@ pub(crate) mod tests {
     use std::f64::consts::PI;
 
     fn annulus(n_theta: usize) -> AnnulusSpec {
-        AnnulusSpec {
-            r_inner: 1.0,
-            r_outer: 2.0,
-            z_min: -0.25,
-            z_max: 0.5,
-            n_r: 4,
-            n_theta,
-            n_z: 3,
-            radial_grading: 2.0,
-        }
+        AnnulusSpec { r_inner: 1.0, r_outer: 2.0, z_min: -0.25, z_max: 0.5, n_r: 4, n_theta, n_z: 3, radial_grading: 2.0 }
     }
 
     pub(crate) fn rotor_stator() -> RotorStatorSpec {
@@ -409,10 +288,7 @@ pub(crate) mod tests {
             let total: f64 = mesh.cell_volumes.iter().sum();
             let exact = polygon_annulus_volume(n, 1.0, 2.0, 0.75);
             // Round-off of point coordinates (cos, sin) and of summing ~1e3 cell volumes.
-            assert!(
-                (total - exact).abs() < 1e-13 * exact,
-                "n = {n}: {total} vs {exact}"
-            );
+            assert!((total - exact).abs() < 1e-13 * exact, "n = {n}: {total} vs {exact}");
         }
     }
 
@@ -425,10 +301,7 @@ pub(crate) mod tests {
             let error = (circle - mesh.cell_volumes.iter().sum::<f64>()) / circle;
             let leading = (TAU / n as f64).powi(2) / 6.0;
             // Next term of 1 − sin(x)/x is x⁴/120: relative to x²/6 that is x²/20 ≤ 0.008.
-            assert!(
-                (error / leading - 1.0).abs() < 0.01,
-                "n = {n}: error {error}"
-            );
+            assert!((error / leading - 1.0).abs() < 0.01, "n = {n}: error {error}");
             if previous.is_finite() {
                 let order = (previous / error).log2();
                 assert!((order - 2.0).abs() < 0.01, "n = {n}: order {order}");
@@ -464,34 +337,19 @@ pub(crate) mod tests {
     fn bad_cylinder_input_is_rejected() {
         let mut spec = annulus(8);
         spec.r_inner = 0.0;
-        assert!(Mesh::annulus(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("r_inner"));
+        assert!(Mesh::annulus(&spec).unwrap_err().to_string().contains("r_inner"));
         let mut spec = annulus(8);
         spec.r_outer = 0.5;
-        assert!(Mesh::annulus(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("r_outer"));
+        assert!(Mesh::annulus(&spec).unwrap_err().to_string().contains("r_outer"));
         let mut spec = annulus(2);
         spec.n_theta = 2;
-        assert!(Mesh::annulus(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("n_theta"));
+        assert!(Mesh::annulus(&spec).unwrap_err().to_string().contains("n_theta"));
         let mut spec = rotor_stator();
         spec.r_interface = 2.5;
-        assert!(Mesh::rotor_stator(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("r_outer"));
+        assert!(Mesh::rotor_stator(&spec).unwrap_err().to_string().contains("r_outer"));
         let mut spec = rotor_stator();
         spec.radial_grading_stator = f64::NAN;
-        assert!(Mesh::rotor_stator(&spec)
-            .unwrap_err()
-            .to_string()
-            .contains("radial_grading_stator"));
+        assert!(Mesh::rotor_stator(&spec).unwrap_err().to_string().contains("radial_grading_stator"));
     }
 
     #[test]
@@ -508,41 +366,25 @@ pub(crate) mod tests {
         assert_eq!(mesh.zones[1].cells.len(), 4 * 17 * 2);
         // No internal face joins rotor and stator.
         for f in 0..mesh.n_internal_faces {
-            assert_eq!(
-                mesh.cell_zone[mesh.face_owner[f]],
-                mesh.cell_zone[mesh.face_neighbour[f]]
-            );
+            assert_eq!(mesh.cell_zone[mesh.face_owner[f]], mesh.cell_zone[mesh.face_neighbour[f]]);
         }
         let total: f64 = mesh.cell_volumes.iter().sum();
-        let exact =
-            polygon_annulus_volume(24, 1.0, 1.4, 0.3) + polygon_annulus_volume(17, 1.4, 2.0, 0.3);
+        let exact = polygon_annulus_volume(24, 1.0, 1.4, 0.3) + polygon_annulus_volume(17, 1.4, 2.0, 0.3);
         assert!((total - exact).abs() < 1e-13 * exact);
 
         let interface = &mesh.interfaces[0];
         assert_eq!(interface.rotor_faces.len(), 24 * 2);
         assert_eq!(interface.stator_faces.len(), 17 * 2);
         let rotor_patch = mesh.patch("interface_rotor").unwrap();
-        assert_eq!(
-            rotor_patch.kind,
-            PatchKind::Interface {
-                interface: 0,
-                side: InterfaceSide::Rotor
-            }
-        );
-        for (side, faces, n, patch) in [
-            (1.0, &interface.rotor_faces, 24, "interface_rotor"),
-            (-1.0, &interface.stator_faces, 17, "interface_stator"),
-        ] {
+        assert_eq!(rotor_patch.kind, PatchKind::Interface { interface: 0, side: InterfaceSide::Rotor });
+        for (side, faces, n, patch) in [(1.0, &interface.rotor_faces, 24, "interface_rotor"), (-1.0, &interface.stator_faces, 17, "interface_stator")] {
             let range = mesh.patch(patch).unwrap().faces();
             for (index, &f) in faces.iter().enumerate() {
                 assert!(range.contains(&f));
                 let (layer, j) = (index / n, index % n);
                 let centre = mesh.face_centres[f];
                 let theta = centre.y.atan2(centre.x).rem_euclid(TAU);
-                assert!(
-                    (theta - TAU * (j as f64 + 0.5) / n as f64).abs() < 1e-13,
-                    "{patch} {index}"
-                );
+                assert!((theta - TAU * (j as f64 + 0.5) / n as f64).abs() < 1e-13, "{patch} {index}");
                 assert!((centre.z - 0.15 * (layer as f64 + 0.5)).abs() < 1e-15);
                 // Rotor faces point outwards (+r), stator faces inwards.
                 assert!(side * mesh.face_areas[f].dot(&centre) > 0.0);
@@ -560,11 +402,7 @@ pub(crate) mod tests {
         let mut found = 0;
         for _ in 0..3000 {
             // Sample a box around the annulus: points outside and between chord and arc too.
-            let p = Vec3::new(
-                4.4 * random.next() - 2.2,
-                4.4 * random.next() - 2.2,
-                random.next() - 0.4,
-            );
+            let p = Vec3::new(4.4 * random.next() - 2.2, 4.4 * random.next() - 2.2, random.next() - 0.4);
             let brute = (0..mesh.n_cells()).find(|&c| mesh.contains(c, &p));
             let located = mesh.locate(&p);
             match (located, brute) {

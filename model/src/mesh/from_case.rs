@@ -31,7 +31,18 @@ pub fn build(section: &MeshSection) -> Result<Mesh, MeshError> {
             (Mesh::annulus(&spec)?, *two_d)
         }
         MeshSection::RotorStator {
-            r_inner, r_interface, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, radial_grading, two_d,
+            r_inner,
+            r_interface,
+            r_outer,
+            z_min,
+            z_max,
+            n_r_rotor,
+            n_r_stator,
+            n_theta_rotor,
+            n_theta_stator,
+            n_z,
+            radial_grading,
+            two_d,
         } => {
             let spec = RotorStatorSpec {
                 r_inner: *r_inner,

@@ -115,8 +115,7 @@ impl Mesh {
                 continue;
             }
             let owner_centre = self.cell_centres[self.face_owner[f]];
-            let neighbour_image =
-                self.cell_centres[self.face_neighbour[f]] - self.periodic_shift_of(f);
+            let neighbour_image = self.cell_centres[self.face_neighbour[f]] - self.periodic_shift_of(f);
             let area = self.face_areas[f];
             let owner_distance = area.dot(&(self.face_centres[f] - owner_centre)).abs();
             let neighbour_distance = area.dot(&(neighbour_image - self.face_centres[f])).abs();
@@ -139,31 +138,16 @@ mod tests {
 
     #[test]
     fn unit_cube_is_exact_and_faces_point_outward() {
-        let points: Vec<Vec3> = [
-            (0., 0., 0.),
-            (1., 0., 0.),
-            (1., 1., 0.),
-            (0., 1., 0.),
-            (0., 0., 1.),
-            (1., 0., 1.),
-            (1., 1., 1.),
-            (0., 1., 1.),
-        ]
-        .iter()
-        .map(|&(x, y, z)| Vec3::new(x, y, z))
-        .collect();
+        let points: Vec<Vec3> = [(0., 0., 0.), (1., 0., 0.), (1., 1., 0.), (0., 1., 0.), (0., 0., 1.), (1., 0., 1.), (1., 1., 1.), (0., 1., 1.)]
+            .iter()
+            .map(|&(x, y, z)| Vec3::new(x, y, z))
+            .collect();
         let cell = [0, 1, 2, 3, 4, 5, 6, 7];
         let (centre, volume) = hex_centre_and_volume(&points, &cell);
         assert_eq!(volume, 1.0);
         assert!((centre - Vec3::new(0.5, 0.5, 0.5)).norm() < 1e-15);
-        let expected_normals = [
-            Vec3::new(-1., 0., 0.),
-            Vec3::new(1., 0., 0.),
-            Vec3::new(0., -1., 0.),
-            Vec3::new(0., 1., 0.),
-            Vec3::new(0., 0., -1.),
-            Vec3::new(0., 0., 1.),
-        ];
+        let expected_normals =
+            [Vec3::new(-1., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(0., -1., 0.), Vec3::new(0., 1., 0.), Vec3::new(0., 0., -1.), Vec3::new(0., 0., 1.)];
         for (k, expected) in expected_normals.iter().enumerate() {
             let (_, area) = hex_face(&points, &cell, k);
             assert_eq!(area, *expected, "local face {k}");
@@ -174,12 +158,7 @@ mod tests {
     fn trapezoid_face_centroid_is_exact() {
         // Trapezoid with parallel sides 2 (y = 0) and 1 (y = 1): area 1.5, centroid
         // y = h(2a + b)/(3(a + b)) with a = 1 (top), b = 2 (bottom) → 4/9.
-        let quad = [
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0., 0.),
-            Vec3::new(1.5, 1., 0.),
-            Vec3::new(0.5, 1., 0.),
-        ];
+        let quad = [Vec3::new(0., 0., 0.), Vec3::new(2., 0., 0.), Vec3::new(1.5, 1., 0.), Vec3::new(0.5, 1., 0.)];
         let (centre, area) = face_centre_and_area(&quad);
         assert!((area - Vec3::new(0., 0., 1.5)).norm() < 1e-15);
         assert!((centre - Vec3::new(1.0, 4.0 / 9.0, 0.0)).norm() < 1e-15);

@@ -72,17 +72,12 @@ impl Mesh {
                 let (nx, ny) = (edges[0].len() - 1, edges[1].len() - 1);
                 Some(i + nx * (j + ny * k))
             }
-            Locator::Cylindrical { blocks } => blocks
-                .iter()
-                .find_map(|block| self.locate_in_block(block, point)),
+            Locator::Cylindrical { blocks } => blocks.iter().find_map(|block| self.locate_in_block(block, point)),
         }
     }
 
     fn locate_in_block(&self, block: &CylinderBlock, point: &Vec3) -> Option<usize> {
-        let angle = self.zones[block.zone]
-            .rotation
-            .as_ref()
-            .map_or(0.0, |r| r.angle);
+        let angle = self.zones[block.zone].rotation.as_ref().map_or(0.0, |r| r.angle);
         let r = point.x.hypot(point.y);
         let n_r = block.r_edges.len() - 1;
         // A chord dips inside its circle by at most r (1 − cos(π/n_θ)): points that far in
@@ -117,11 +112,7 @@ impl Mesh {
             if exit >= self.n_internal_faces || self.periodic_shift_of(exit) != Vec3::zeros() {
                 return None;
             }
-            cell = if self.face_owner[exit] == cell {
-                self.face_neighbour[exit]
-            } else {
-                self.face_owner[exit]
-            };
+            cell = if self.face_owner[exit] == cell { self.face_neighbour[exit] } else { self.face_owner[exit] };
         }
         None
     }

@@ -42,16 +42,9 @@ pub type Vec3 = Vector3<f64>;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
     #[error("invalid mesh input `{input}` = {value}: {allowed}")]
-    InvalidInput {
-        input: String,
-        value: String,
-        allowed: String,
-    },
+    InvalidInput { input: String, value: String, allowed: String },
     #[error("unknown patch `{name}`; the mesh has patches {available:?}")]
-    UnknownPatch {
-        name: String,
-        available: Vec<String>,
-    },
+    UnknownPatch { name: String, available: Vec<String> },
     #[error("zone index {zone} out of range: the mesh has {n_zones} zones")]
     UnknownZone { zone: usize, n_zones: usize },
     #[error("zone `{name}` has no rotation; only rotating zones can be turned")]
@@ -62,11 +55,7 @@ pub enum MeshError {
 
 impl MeshError {
     pub(crate) fn input(input: &str, value: impl std::fmt::Display, allowed: &str) -> Self {
-        MeshError::InvalidInput {
-            input: input.to_string(),
-            value: value.to_string(),
-            allowed: allowed.to_string(),
-        }
+        MeshError::InvalidInput { input: input.to_string(), value: value.to_string(), allowed: allowed.to_string() }
     }
 }
 
@@ -80,10 +69,7 @@ pub enum PatchKind {
     /// Front/back of a one-cell-thick 2-D mesh: no flux, no gradient normal to it.
     Empty,
     /// One side of a sliding interface (index into `Mesh::interfaces`).
-    Interface {
-        interface: usize,
-        side: InterfaceSide,
-    },
+    Interface { interface: usize, side: InterfaceSide },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -246,10 +232,7 @@ impl Mesh {
         self.patches
             .iter()
             .position(|p| p.name == name)
-            .ok_or_else(|| MeshError::UnknownPatch {
-                name: name.to_string(),
-                available: self.patches.iter().map(|p| p.name.clone()).collect(),
-            })
+            .ok_or_else(|| MeshError::UnknownPatch { name: name.to_string(), available: self.patches.iter().map(|p| p.name.clone()).collect() })
     }
 
     pub fn patch(&self, name: &str) -> Result<&Patch, MeshError> {

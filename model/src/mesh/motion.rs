@@ -25,15 +25,8 @@ pub fn rigid_velocity(rotation: &ZoneRotation, omega: f64, point: &Vec3) -> Vec3
 
 impl Mesh {
     fn rotation_of(&self, zone: usize) -> Result<&ZoneRotation, MeshError> {
-        let z = self.zones.get(zone).ok_or(MeshError::UnknownZone {
-            zone,
-            n_zones: self.zones.len(),
-        })?;
-        z.rotation
-            .as_ref()
-            .ok_or_else(|| MeshError::ZoneNotRotating {
-                name: z.name.clone(),
-            })
+        let z = self.zones.get(zone).ok_or(MeshError::UnknownZone { zone, n_zones: self.zones.len() })?;
+        z.rotation.as_ref().ok_or_else(|| MeshError::ZoneNotRotating { name: z.name.clone() })
     }
 
     /// Turn rotating zone `zone` to `angle` (rad, counter-clockwise about its axis) relative to
@@ -111,35 +104,20 @@ impl Mesh {
     }
 
     /// Mesh flux φ_mesh,f = (ω â × (c_f − x₀))·S_f of `face` moving with rotating zone `zone`.
-    pub fn zone_face_mesh_flux(
-        &self,
-        zone: usize,
-        omega: f64,
-        face: usize,
-    ) -> Result<f64, MeshError> {
+    pub fn zone_face_mesh_flux(&self, zone: usize, omega: f64, face: usize) -> Result<f64, MeshError> {
         let velocity = rigid_velocity(self.rotation_of(zone)?, omega, &self.face_centres[face]);
         Ok(velocity.dot(&self.face_areas[face]))
     }
 
     /// Write the mesh flux of every face of rotating zone `zone` (its `faces` list) into
     /// `flux` (length `n_faces`); other entries are left unchanged.
-    pub fn zone_mesh_fluxes(
-        &self,
-        zone: usize,
-        omega: f64,
-        flux: &mut [f64],
-    ) -> Result<(), MeshError> {
+    pub fn zone_mesh_fluxes(&self, zone: usize, omega: f64, flux: &mut [f64]) -> Result<(), MeshError> {
         let rotation = self.rotation_of(zone)?;
         if flux.len() != self.n_faces() {
-            return Err(MeshError::input(
-                "mesh flux length",
-                flux.len(),
-                &format!("must equal the number of faces, {}", self.n_faces()),
-            ));
+            return Err(MeshError::input("mesh flux length", flux.len(), &format!("must equal the number of faces, {}", self.n_faces())));
         }
         for &f in &self.zones[zone].faces {
-            flux[f] =
-                rigid_velocity(rotation, omega, &self.face_centres[f]).dot(&self.face_areas[f]);
+            flux[f] = rigid_velocity(rotation, omega, &self.face_centres[f]).dot(&self.face_areas[f]);
         }
         Ok(())
     }
@@ -166,10 +144,7 @@ mod tests {
             assert_cells_closed(&mesh);
             assert_internal_faces_oriented(&mesh);
             assert_boundary_faces_outward(&mesh);
-            assert_eq!(
-                &mesh.cell_centres[mesh.zones[1].cells[0]..],
-                &stator_centres[..]
-            );
+            assert_eq!(&mesh.cell_centres[mesh.zones[1].cells[0]..], &stator_centres[..]);
             // The rotor centre of cell 0 turned by the angle.
             let reference = Mesh::rotor_stator(&rotor_stator()).unwrap().cell_centres[0];
             let expected = Rotation3::from_axis_angle(&Vec3::z_axis(), angle) * reference;
@@ -214,9 +189,7 @@ mod tests {
         let mut direct = turned.clone();
         let mut random = Lcg::new(3);
         for _ in 0..500 {
-            turned
-                .set_zone_angle(0, TAU * (4.0 * random.next() - 2.0))
-                .unwrap();
+            turned.set_zone_angle(0, TAU * (4.0 * random.next() - 2.0)).unwrap();
         }
         turned.set_zone_angle(0, 1.25).unwrap();
         direct.set_zone_angle(0, 1.25).unwrap();
@@ -259,20 +232,13 @@ mod tests {
             for o in &out {
                 rotor_sum[o.rotor_face] += o.rotor_fraction;
                 stator_sum[o.stator_face] += o.stator_fraction;
-                let layer = interface
-                    .rotor_faces
-                    .iter()
-                    .position(|&f| f == o.rotor_face)
-                    .unwrap()
-                    / interface.n_theta_rotor;
+                let layer = interface.rotor_faces.iter().position(|&f| f == o.rotor_face).unwrap() / interface.n_theta_rotor;
                 covered[layer] += o.rotor_fraction * TAU / interface.n_theta_rotor as f64;
                 // The faces really overlap: their centre angles differ by at most the sum of
                 // their half widths.
                 let theta = |f: usize| mesh.face_centres[f].y.atan2(mesh.face_centres[f].x);
-                let gap = (theta(o.rotor_face) - theta(o.stator_face) + TAU / 2.0).rem_euclid(TAU)
-                    - TAU / 2.0;
-                let reach = TAU / 2.0 / interface.n_theta_rotor as f64
-                    + TAU / 2.0 / interface.n_theta_stator as f64;
+                let gap = (theta(o.rotor_face) - theta(o.stator_face) + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
+                let reach = TAU / 2.0 / interface.n_theta_rotor as f64 + TAU / 2.0 / interface.n_theta_stator as f64;
                 assert!(gap.abs() <= reach + 1e-12, "angle {angle}: {o:?}");
             }
             for &f in &interface.rotor_faces {
@@ -301,26 +267,16 @@ mod tests {
                 let mut sum = 0.0;
                 let mut scale = 0.0;
                 for &f in mesh.faces_of_cell(c) {
-                    let outward = if mesh.face_owner[f] == c {
-                        flux[f]
-                    } else {
-                        -flux[f]
-                    };
+                    let outward = if mesh.face_owner[f] == c { flux[f] } else { -flux[f] };
                     sum += outward;
                     scale += flux[f].abs();
                 }
                 // Six terms of size ≤ scale, each with ~1e-16 relative round-off.
-                assert!(
-                    sum.abs() <= 1e-14 * scale,
-                    "cell {c}: Σφ = {sum} (scale {scale})"
-                );
+                assert!(sum.abs() <= 1e-14 * scale, "cell {c}: Σφ = {sum} (scale {scale})");
                 assert!(scale > 0.0);
             }
             // Stator faces untouched.
-            let stator_face = mesh.zones[1]
-                .faces
-                .iter()
-                .find(|f| mesh.zones[0].faces.binary_search(f).is_err());
+            let stator_face = mesh.zones[1].faces.iter().find(|f| mesh.zones[0].faces.binary_search(f).is_err());
             assert!(flux[*stator_face.unwrap()].is_nan());
         }
     }
@@ -343,19 +299,14 @@ mod tests {
                 .copied()
                 .find(|&f| {
                     let quad = mesh.face_points[f];
-                    [ids[2], ids[3], ids[6], ids[7]]
-                        .iter()
-                        .all(|p| quad.contains(p))
+                    [ids[2], ids[3], ids[6], ids[7]].iter().all(|p| quad.contains(p))
                 })
                 .unwrap();
             let outward = mesh.outward_area(theta_face, c);
             let sign = outward.dot(&mesh.face_areas[theta_face]).signum();
             let flux = sign * mesh.zone_face_mesh_flux(0, omega, theta_face).unwrap();
             let expected = omega * 0.5 * (r_a + r_b) * (r_b - r_a) * height;
-            assert!(
-                (flux - expected).abs() < 1e-14 * expected.abs(),
-                "cell {c}: {flux} vs {expected}"
-            );
+            assert!((flux - expected).abs() < 1e-14 * expected.abs(), "cell {c}: {flux} vs {expected}");
         }
     }
 
@@ -366,11 +317,7 @@ mod tests {
         let mut random = Lcg::new(5);
         let mut found = 0;
         for _ in 0..2000 {
-            let p = Vec3::new(
-                4.2 * random.next() - 2.1,
-                4.2 * random.next() - 2.1,
-                0.4 * random.next() - 0.05,
-            );
+            let p = Vec3::new(4.2 * random.next() - 2.1, 4.2 * random.next() - 2.1, 0.4 * random.next() - 0.05);
             let brute = (0..mesh.n_cells()).find(|&c| mesh.contains(c, &p));
             match (mesh.locate(&p), brute) {
                 (Some(c), Some(_)) => {
@@ -387,14 +334,8 @@ mod tests {
     #[test]
     fn rotating_a_static_zone_is_an_error() {
         let mut mesh = Mesh::rotor_stator(&rotor_stator()).unwrap();
-        assert!(matches!(
-            mesh.set_zone_angle(1, 0.1),
-            Err(MeshError::ZoneNotRotating { .. })
-        ));
-        assert!(matches!(
-            mesh.set_zone_angle(5, 0.1),
-            Err(MeshError::UnknownZone { .. })
-        ));
+        assert!(matches!(mesh.set_zone_angle(1, 0.1), Err(MeshError::ZoneNotRotating { .. })));
+        assert!(matches!(mesh.set_zone_angle(5, 0.1), Err(MeshError::UnknownZone { .. })));
         assert!(mesh.set_zone_angle(0, f64::NAN).is_err());
     }
 }

@@ -70,18 +70,10 @@ pub struct Overlap1d {
 
 fn check_edges(name: &str, edges: &[f64]) -> Result<(), MeshError> {
     if edges.len() < 2 {
-        return Err(MeshError::input(
-            name,
-            format!("{edges:?}"),
-            "need at least 2 edges",
-        ));
+        return Err(MeshError::input(name, format!("{edges:?}"), "need at least 2 edges"));
     }
     if !edges.iter().all(|e| e.is_finite()) || edges.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(MeshError::input(
-            name,
-            format!("{edges:?}"),
-            "edges must be finite and strictly increasing",
-        ));
+        return Err(MeshError::input(name, format!("{edges:?}"), "edges must be finite and strictly increasing"));
     }
     Ok(())
 }
@@ -96,16 +88,11 @@ pub fn overlap_1d(source_edges: &[f64], target_edges: &[f64]) -> Result<Vec<Over
     let (n_s, n_t) = (source_edges.len() - 1, target_edges.len() - 1);
     let span = source_edges[n_s] - source_edges[0];
     let tolerance = 1e-12 * span;
-    if (source_edges[0] - target_edges[0]).abs() > tolerance
-        || (source_edges[n_s] - target_edges[n_t]).abs() > tolerance
-    {
+    if (source_edges[0] - target_edges[0]).abs() > tolerance || (source_edges[n_s] - target_edges[n_t]).abs() > tolerance {
         return Err(MeshError::input(
             "target_edges",
             format!("[{}, {}]", target_edges[0], target_edges[n_t]),
-            &format!(
-                "must span the source interval [{}, {}]",
-                source_edges[0], source_edges[n_s]
-            ),
+            &format!("must span the source interval [{}, {}]", source_edges[0], source_edges[n_s]),
         ));
     }
     let mut overlaps = Vec::with_capacity(n_s + n_t);
@@ -156,12 +143,7 @@ pub fn map_to_source(overlaps: &[Overlap1d], target_values: &[f64], n_source: us
 /// Merge sweep of two periodic partitions of the circle, the rotor one turned by `angle`.
 /// Calls `emit(rotor index, stator index, rotor_fraction, stator_fraction, θ_lo, θ_hi)` for
 /// every overlap of positive length, in order of increasing θ starting at the rotor's first edge.
-fn periodic_sweep(
-    rotor_edges: &[f64],
-    stator_edges: &[f64],
-    angle: f64,
-    mut emit: impl FnMut(usize, usize, f64, f64, f64, f64),
-) {
+fn periodic_sweep(rotor_edges: &[f64], stator_edges: &[f64], angle: f64, mut emit: impl FnMut(usize, usize, f64, f64, f64, f64)) {
     let (n_r, n_s) = (rotor_edges.len() - 1, stator_edges.len() - 1);
     // Reduce the angle so values stay within a few 2π (their round-off bounds the error).
     let shift = angle.rem_euclid(TAU);
@@ -320,24 +302,10 @@ impl SlidingInterface {
         out.clear();
         for layer in 0..self.n_layers() {
             let rotor_faces = &self.rotor_faces[layer * self.n_theta_rotor..][..self.n_theta_rotor];
-            let stator_faces =
-                &self.stator_faces[layer * self.n_theta_stator..][..self.n_theta_stator];
-            periodic_sweep(
-                &self.rotor_theta_edges,
-                &self.stator_theta_edges,
-                rotor_angle,
-                |i, j, rotor_fraction, stator_fraction, theta_lo, theta_hi| {
-                    out.push(Overlap {
-                        rotor_face: rotor_faces[i],
-                        stator_face: stator_faces[j],
-                        rotor_fraction,
-                        stator_fraction,
-                        layer,
-                        theta_lo,
-                        theta_hi,
-                    })
-                },
-            );
+            let stator_faces = &self.stator_faces[layer * self.n_theta_stator..][..self.n_theta_stator];
+            periodic_sweep(&self.rotor_theta_edges, &self.stator_theta_edges, rotor_angle, |i, j, rotor_fraction, stator_fraction, theta_lo, theta_hi| {
+                out.push(Overlap { rotor_face: rotor_faces[i], stator_face: stator_faces[j], rotor_fraction, stator_fraction, layer, theta_lo, theta_hi })
+            });
         }
     }
 }
@@ -353,18 +321,8 @@ mod tests {
         let source = [0.0, 2.0 / 3.0, 4.0 / 3.0, 2.0];
         let target = [0.0, 0.5, 1.0, 1.5, 2.0];
         let overlaps = overlap_1d(&source, &target).unwrap();
-        let weights: Vec<(usize, usize, f64)> = overlaps
-            .iter()
-            .map(|o| (o.target, o.source, o.target_fraction))
-            .collect();
-        let expected = [
-            (0, 0, 1.0),
-            (1, 0, 1.0 / 3.0),
-            (1, 1, 2.0 / 3.0),
-            (2, 1, 2.0 / 3.0),
-            (2, 2, 1.0 / 3.0),
-            (3, 2, 1.0),
-        ];
+        let weights: Vec<(usize, usize, f64)> = overlaps.iter().map(|o| (o.target, o.source, o.target_fraction)).collect();
+        let expected = [(0, 0, 1.0), (1, 0, 1.0 / 3.0), (1, 1, 2.0 / 3.0), (2, 1, 2.0 / 3.0), (2, 2, 1.0 / 3.0), (3, 2, 1.0)];
         assert_eq!(weights.len(), expected.len());
         for (got, want) in weights.iter().zip(&expected) {
             assert_eq!((got.0, got.1), (want.0, want.1));
@@ -393,7 +351,7 @@ mod tests {
         let mid = 0.2f64;
         let ray = Vec3::new(mid.cos(), mid.sin(), 0.0);
         let outward = ray; // a rotor face area pointing outward (rotor inside)
-        // on the ray: no skew; inner centre 0.1 inside the chord, outer 0.2 outside
+                           // on the ray: no skew; inner centre 0.1 inside the chord, outer 0.2 outside
         let chord_r = radius * (0.1f64).cos();
         let (xp, xn) = (ray * (chord_r - 0.1) + Vec3::z() * 0.05, ray * (chord_r + 0.2) + Vec3::z() * 0.05);
         let g = frame.overlap_link(radius, lo, hi, 0.0, 0.1, &outward, &xp, &xn);
@@ -417,14 +375,8 @@ mod tests {
 
     #[test]
     fn overlap_1d_rejects_bad_edges() {
-        assert!(overlap_1d(&[0.0, 1.0, 0.5], &[0.0, 0.5])
-            .unwrap_err()
-            .to_string()
-            .contains("source_edges"));
-        assert!(overlap_1d(&[0.0, 1.0], &[0.0, 0.9])
-            .unwrap_err()
-            .to_string()
-            .contains("target_edges"));
+        assert!(overlap_1d(&[0.0, 1.0, 0.5], &[0.0, 0.5]).unwrap_err().to_string().contains("source_edges"));
+        assert!(overlap_1d(&[0.0, 1.0], &[0.0, 0.9]).unwrap_err().to_string().contains("target_edges"));
         assert!(overlap_1d(&[0.0], &[0.0, 1.0]).is_err());
     }
 
@@ -458,14 +410,9 @@ mod tests {
         for o in out.iter() {
             rotor_sum[o.rotor_face] += o.rotor_fraction;
             stator_sum[o.stator_face - 1000] += o.stator_fraction;
-            covered[o.rotor_face / i.n_theta_rotor] +=
-                o.rotor_fraction * TAU / i.n_theta_rotor as f64;
+            covered[o.rotor_face / i.n_theta_rotor] += o.rotor_fraction * TAU / i.n_theta_rotor as f64;
         }
-        let fraction_error = rotor_sum
-            .iter()
-            .chain(&stator_sum)
-            .map(|s| (s - 1.0).abs())
-            .fold(0.0, f64::max);
+        let fraction_error = rotor_sum.iter().chain(&stator_sum).map(|s| (s - 1.0).abs()).fold(0.0, f64::max);
         let cover_error = covered.iter().map(|c| (c - TAU).abs()).fold(0.0, f64::max);
         (fraction_error, cover_error)
     }
@@ -525,10 +472,7 @@ mod tests {
             }
             // Breakpoints of magnitude ≤ 4π carry round-off ~ε·4π each; relative to a face
             // width 2π/n that is ~2nε per piece, so 1e-12 covers n ≤ 256 with margin.
-            assert!(
-                worst.0 < 1e-12 && worst.1 < 1e-12,
-                "{n_rotor}/{n_stator}: {worst:?}"
-            );
+            assert!(worst.0 < 1e-12 && worst.1 < 1e-12, "{n_rotor}/{n_stator}: {worst:?}");
         }
     }
 
@@ -544,10 +488,7 @@ mod tests {
             assert_eq!(out.len(), 8, "turns {turns}");
             for o in &out {
                 assert_eq!(o.stator_face - 1000, o.rotor_face / 2);
-                assert!(
-                    (o.rotor_fraction - 1.0).abs() < 1e-12
-                        && (o.stator_fraction - 0.5).abs() < 1e-12
-                );
+                assert!((o.rotor_fraction - 1.0).abs() < 1e-12 && (o.stator_fraction - 0.5).abs() < 1e-12);
             }
         }
         // Rotor turned by a quarter rotor face (π/16): rotor face 0 spans [π/16, 5π/16],

@@ -10,14 +10,8 @@ use std::path::{Path, PathBuf};
 /// The temporary sibling of `path`; it keeps the extension last because some encoders (the PNG
 /// backend) choose the format from it.
 pub(crate) fn temporary_sibling(path: &Path) -> PathBuf {
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let extension = path
-        .extension()
-        .map(|e| format!(".{}", e.to_string_lossy()))
-        .unwrap_or_default();
+    let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let extension = path.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
     path.with_file_name(format!(".{file_name}.tmp{}{extension}", std::process::id()))
 }
 
@@ -41,9 +35,7 @@ where
         let mut writer = BufWriter::with_capacity(1 << 16, file);
         write(&mut writer)?;
         writer.flush().map_err(|e| OutputError::io(path, e))?;
-        let file = writer
-            .into_inner()
-            .map_err(|e| OutputError::io(path, e.into_error()))?;
+        let file = writer.into_inner().map_err(|e| OutputError::io(path, e.into_error()))?;
         file.sync_all().map_err(|e| OutputError::io(path, e))
     })();
     match result {
@@ -64,10 +56,7 @@ mod tests {
     fn failed_write_keeps_the_old_file_and_leaves_no_temporary() {
         let dir = test_dir::fresh("atomic_failure");
         let path = dir.join("index.pvd");
-        write_atomically(&path, |w| {
-            w.write_all(b"old").map_err(|e| OutputError::io(&path, e))
-        })
-        .unwrap();
+        write_atomically(&path, |w| w.write_all(b"old").map_err(|e| OutputError::io(&path, e))).unwrap();
         let failed = write_atomically(&path, |w| {
             w.write_all(b"half of the new").unwrap();
             Err(OutputError::invalid(&path, "simulated failure mid-write"))

@@ -28,12 +28,7 @@ pub enum OutputError {
     },
     /// A value that would be written is NaN or infinite.
     #[error("{path}: `{field}` has the non-finite value {value} at index {index}; only finite numbers are written")]
-    NonFinite {
-        path: PathBuf,
-        field: String,
-        index: usize,
-        value: f64,
-    },
+    NonFinite { path: PathBuf, field: String, index: usize, value: f64 },
     /// The data handed to a writer is inconsistent (lengths, names, ids, axis ranges).
     #[error("{path}: {message}")]
     InvalidData { path: PathBuf, message: String },
@@ -44,24 +39,15 @@ pub enum OutputError {
 
 impl OutputError {
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
+        OutputError::Io { path: path.to_path_buf(), source }
     }
 
     pub(crate) fn invalid(path: &Path, message: impl Into<String>) -> Self {
-        OutputError::InvalidData {
-            path: path.to_path_buf(),
-            message: message.into(),
-        }
+        OutputError::InvalidData { path: path.to_path_buf(), message: message.into() }
     }
 
     pub(crate) fn malformed(path: &Path, message: impl Into<String>) -> Self {
-        OutputError::Malformed {
-            path: path.to_path_buf(),
-            message: message.into(),
-        }
+        OutputError::Malformed { path: path.to_path_buf(), message: message.into() }
     }
 }
 
@@ -69,15 +55,9 @@ impl OutputError {
 impl From<OutputError> for std::io::Error {
     fn from(error: OutputError) -> Self {
         match error {
-            OutputError::Io { source, path } => {
-                std::io::Error::new(source.kind(), format!("{}: {source}", path.display()))
-            }
-            OutputError::NonFinite { .. } | OutputError::InvalidData { .. } => {
-                std::io::Error::new(std::io::ErrorKind::InvalidInput, error.to_string())
-            }
-            OutputError::Malformed { .. } => {
-                std::io::Error::new(std::io::ErrorKind::InvalidData, error.to_string())
-            }
+            OutputError::Io { source, path } => std::io::Error::new(source.kind(), format!("{}: {source}", path.display())),
+            OutputError::NonFinite { .. } | OutputError::InvalidData { .. } => std::io::Error::new(std::io::ErrorKind::InvalidInput, error.to_string()),
+            OutputError::Malformed { .. } => std::io::Error::new(std::io::ErrorKind::InvalidData, error.to_string()),
         }
     }
 }
@@ -86,12 +66,7 @@ impl From<OutputError> for std::io::Error {
 pub(crate) fn check_finite(path: &Path, field: &str, values: &[f64]) -> Result<(), OutputError> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(index) => Err(OutputError::NonFinite {
-            path: path.to_path_buf(),
-            field: field.to_string(),
-            index,
-            value: values[index],
-        }),
+        Some(index) => Err(OutputError::NonFinite { path: path.to_path_buf(), field: field.to_string(), index, value: values[index] }),
     }
 }
 
@@ -104,10 +79,7 @@ pub(crate) mod test_dir {
     pub struct TestDir(PathBuf);
 
     pub fn fresh(test_name: &str) -> TestDir {
-        let dir = std::env::temp_dir().join(format!(
-            "spillage-output-tests-{}-{test_name}",
-            std::process::id()
-        ));
+        let dir = std::env::temp_dir().join(format!("spillage-output-tests-{}-{test_name}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("creating a test directory under the temp dir");
         TestDir(dir)

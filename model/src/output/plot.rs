@@ -62,12 +62,8 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
 
     let temporary = temporary_sibling(path);
     // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
-    let resolution =
-        |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
-    let resolutions = (
-        resolution(plot.log_x, x_range),
-        resolution(plot.log_y, y_range),
-    );
+    let resolution = |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
+    let resolutions = (resolution(plot.log_x, x_range), resolution(plot.log_y, y_range));
     let drawn = {
         let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
         let (x0, x1) = x_range;
@@ -76,13 +72,7 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
             (false, false) => draw(&root, plot, resolutions, x0..x1, y0..y1),
             (true, false) => draw(&root, plot, resolutions, (x0..x1).log_scale(), y0..y1),
             (false, true) => draw(&root, plot, resolutions, x0..x1, (y0..y1).log_scale()),
-            (true, true) => draw(
-                &root,
-                plot,
-                resolutions,
-                (x0..x1).log_scale(),
-                (y0..y1).log_scale(),
-            ),
+            (true, true) => draw(&root, plot, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
         };
         result.and_then(|()| root.present().map_err(|e| e.to_string()))
     };
@@ -90,19 +80,14 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
         Ok(()) => replace_with(&temporary, path),
         Err(message) => {
             let _ = std::fs::remove_file(&temporary);
-            Err(OutputError::Io {
-                path: path.to_path_buf(),
-                source: std::io::Error::other(format!("drawing the plot failed: {message}")),
-            })
+            Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing the plot failed: {message}")) })
         }
     }
 }
 
 fn register_embedded_font() -> Result<(), String> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU_SANS).is_ok()
-    });
+    let ok = *REGISTERED.get_or_init(|| plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU_SANS).is_ok());
     if ok {
         Ok(())
     } else {
@@ -130,12 +115,7 @@ fn axis_range(path: &Path, plot: &Plot, axis: Axis) -> Result<(f64, f64), Output
         for (index, &(x, y)) in series.points.iter().enumerate() {
             let value = if axis == Axis::X { x } else { y };
             if !value.is_finite() {
-                return Err(OutputError::NonFinite {
-                    path: path.to_path_buf(),
-                    field: format!("series `{}` {name}", series.label),
-                    index,
-                    value,
-                });
+                return Err(OutputError::NonFinite { path: path.to_path_buf(), field: format!("series `{}` {name}", series.label), index, value });
             }
             if log && value <= 0.0 {
                 return Err(OutputError::invalid(
@@ -152,10 +132,7 @@ fn axis_range(path: &Path, plot: &Plot, axis: Axis) -> Result<(f64, f64), Output
         }
     }
     if low > high {
-        return Err(OutputError::invalid(
-            path,
-            format!("plot `{}` has no data points", plot.title),
-        ));
+        return Err(OutputError::invalid(path, format!("plot `{}` has no data points", plot.title)));
     }
     let range = if log {
         let (a, b) = (low.log10(), high.log10());
@@ -176,10 +153,7 @@ fn axis_range(path: &Path, plot: &Plot, axis: Axis) -> Result<(f64, f64), Output
         (low - pad, high + pad)
     };
     if !(range.0.is_finite() && range.1.is_finite() && range.0 < range.1) {
-        return Err(OutputError::invalid(
-            path,
-            format!("the {name} data range {low:e}..{high:e} is too wide to draw"),
-        ));
+        return Err(OutputError::invalid(path, format!("the {name} data range {low:e}..{high:e} is too wide to draw")));
     }
     Ok(range)
 }
@@ -194,11 +168,7 @@ fn tick_text(value: f64, resolution: f64) -> String {
         return "0".to_string();
     }
     let exponent = magnitude.log10().floor() as i32;
-    let significant = if resolution > 0.0 {
-        (exponent - resolution.log10().floor() as i32 + 1).clamp(1, 15)
-    } else {
-        4
-    } as usize;
+    let significant = if resolution > 0.0 { (exponent - resolution.log10().floor() as i32 + 1).clamp(1, 15) } else { 4 } as usize;
     let trim = |text: &str| -> String {
         if text.contains('.') {
             text.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -217,13 +187,7 @@ fn tick_text(value: f64, resolution: f64) -> String {
     }
 }
 
-fn draw<XR, YR>(
-    root: &DrawingArea<BitMapBackend, Shift>,
-    plot: &Plot,
-    (x_resolution, y_resolution): (f64, f64),
-    x_spec: XR,
-    y_spec: YR,
-) -> Result<(), String>
+fn draw<XR, YR>(root: &DrawingArea<BitMapBackend, Shift>, plot: &Plot, (x_resolution, y_resolution): (f64, f64), x_spec: XR, y_spec: YR) -> Result<(), String>
 where
     XR: AsRangedCoord<Value = f64>,
     YR: AsRangedCoord<Value = f64>,
@@ -259,18 +223,9 @@ where
             .draw_series(LineSeries::new(series.points.iter().copied(), line_style))
             .map_err(|e| error(&e))?
             .label(series.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-            });
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3)));
         if series.points.len() <= MARKER_LIMIT {
-            chart
-                .draw_series(
-                    series
-                        .points
-                        .iter()
-                        .map(|&point| Circle::new(point, 4, colour.filled())),
-                )
-                .map_err(|e| error(&e))?;
+            chart.draw_series(series.points.iter().map(|&point| Circle::new(point, 4, colour.filled()))).map_err(|e| error(&e))?;
         }
     }
     chart
@@ -318,22 +273,10 @@ mod tests {
                 log_x,
                 log_y,
                 series: vec![
-                    Series {
-                        label: "measured error",
-                        points: &error,
-                    },
-                    Series {
-                        label: "first order slope",
-                        points: &first_order,
-                    },
-                    Series {
-                        label: "constant",
-                        points: &constant,
-                    },
-                    Series {
-                        label: "single point",
-                        points: &single,
-                    },
+                    Series { label: "measured error", points: &error },
+                    Series { label: "first order slope", points: &first_order },
+                    Series { label: "constant", points: &constant },
+                    Series { label: "single point", points: &single },
                 ],
             };
             write_png(&plot, &path).unwrap();
@@ -355,14 +298,7 @@ mod tests {
         ];
         for (i, points) in cases.iter().enumerate() {
             let path = dir.join(format!("degenerate_{i}.png"));
-            let plot = Plot {
-                title: "degenerate",
-                x_label: "x",
-                y_label: "y",
-                log_x: false,
-                log_y: false,
-                series: vec![Series { label: "s", points }],
-            };
+            let plot = Plot { title: "degenerate", x_label: "x", y_label: "y", log_x: false, log_y: false, series: vec![Series { label: "s", points }] };
             write_png(&plot, &path).unwrap();
             assert_eq!(png_size(&path), (WIDTH, HEIGHT));
         }
@@ -373,24 +309,11 @@ mod tests {
         let dir = test_dir::fresh("plot_refuse");
         let path = dir.join("bad.png");
         let with = |points: &[(f64, f64)], log_y: bool| {
-            let plot = Plot {
-                title: "t",
-                x_label: "x",
-                y_label: "y",
-                log_x: false,
-                log_y,
-                series: vec![Series {
-                    label: "torque",
-                    points,
-                }],
-            };
+            let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: false, log_y, series: vec![Series { label: "torque", points }] };
             write_png(&plot, &path)
         };
         let e = with(&[(0.0, 1.0), (1.0, f64::NAN)], false).unwrap_err();
-        assert!(
-            matches!(&e, OutputError::NonFinite { field, index: 1, .. } if field == "series `torque` y"),
-            "{e}"
-        );
+        assert!(matches!(&e, OutputError::NonFinite { field, index: 1, .. } if field == "series `torque` y"), "{e}");
         let e = with(&[(0.0, 1.0), (1.0, 0.0)], true).unwrap_err();
         assert!(e.to_string().contains("logarithmic"), "{e}");
         let e = with(&[], false).unwrap_err();

@@ -25,10 +25,7 @@ impl SeriesWriter {
     pub fn create(path: &Path, columns: &[&str]) -> Result<Self, OutputError> {
         let columns = checked_columns(path, columns)?;
         let header = header_line(&columns);
-        write_atomically(path, |w| {
-            w.write_all(header.as_bytes())
-                .map_err(|e| OutputError::io(path, e))
-        })?;
+        write_atomically(path, |w| w.write_all(header.as_bytes()).map_err(|e| OutputError::io(path, e)))?;
         Self::open_for_append(path, columns)
     }
 
@@ -36,11 +33,7 @@ impl SeriesWriter {
     /// rows whose first column exceeds `restart_time` (they will be computed again) and an
     /// unfinished last line are removed. `None` keeps every complete row. Without an existing
     /// file this is [`SeriesWriter::create`].
-    pub fn resume(
-        path: &Path,
-        columns: &[&str],
-        restart_time: Option<f64>,
-    ) -> Result<Self, OutputError> {
+    pub fn resume(path: &Path, columns: &[&str], restart_time: Option<f64>) -> Result<Self, OutputError> {
         if !path.exists() {
             return Self::create(path, columns);
         }
@@ -50,14 +43,7 @@ impl SeriesWriter {
         let expected = header_line(&columns);
         let found = lines.next().unwrap_or("");
         if found != expected {
-            return Err(OutputError::invalid(
-                path,
-                format!(
-                    "cannot resume: header is {:?} but this run writes {:?}",
-                    found.trim_end(),
-                    expected.trim_end()
-                ),
-            ));
+            return Err(OutputError::invalid(path, format!("cannot resume: header is {:?} but this run writes {:?}", found.trim_end(), expected.trim_end())));
         }
         let mut kept = expected.clone();
         for (index, line) in lines.enumerate() {
@@ -70,23 +56,13 @@ impl SeriesWriter {
             }
             kept.push_str(line);
         }
-        write_atomically(path, |w| {
-            w.write_all(kept.as_bytes())
-                .map_err(|e| OutputError::io(path, e))
-        })?;
+        write_atomically(path, |w| w.write_all(kept.as_bytes()).map_err(|e| OutputError::io(path, e)))?;
         Self::open_for_append(path, columns)
     }
 
     fn open_for_append(path: &Path, columns: Vec<String>) -> Result<Self, OutputError> {
-        let file = OpenOptions::new()
-            .append(true)
-            .open(path)
-            .map_err(|e| OutputError::io(path, e))?;
-        Ok(SeriesWriter {
-            path: path.to_path_buf(),
-            file,
-            columns,
-        })
+        let file = OpenOptions::new().append(true).open(path).map_err(|e| OutputError::io(path, e))?;
+        Ok(SeriesWriter { path: path.to_path_buf(), file, columns })
     }
 
     /// Appends one row; `values` are in column order. Non-finite values are refused (nothing is
@@ -95,26 +71,15 @@ impl SeriesWriter {
         if values.len() != self.columns.len() {
             return Err(OutputError::invalid(
                 &self.path,
-                format!(
-                    "a row has {} values but the columns are {} ({})",
-                    values.len(),
-                    self.columns.len(),
-                    self.columns.join(",")
-                ),
+                format!("a row has {} values but the columns are {} ({})", values.len(), self.columns.len(), self.columns.join(",")),
             ));
         }
         for (column, value) in self.columns.iter().zip(values) {
             check_finite(&self.path, column, std::slice::from_ref(value))?;
         }
-        let mut line = values
-            .iter()
-            .map(|&v| format_f64(v))
-            .collect::<Vec<_>>()
-            .join(",");
+        let mut line = values.iter().map(|&v| format_f64(v)).collect::<Vec<_>>().join(",");
         line.push('\n');
-        self.file
-            .write_all(line.as_bytes())
-            .map_err(|e| OutputError::io(&self.path, e))
+        self.file.write_all(line.as_bytes()).map_err(|e| OutputError::io(&self.path, e))
     }
 
     pub fn columns(&self) -> &[String] {
@@ -152,23 +117,13 @@ impl SeriesTable {
 pub fn read_series(path: &Path) -> Result<SeriesTable, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;
     let mut lines = text.lines();
-    let header = lines
-        .next()
-        .ok_or_else(|| OutputError::malformed(path, "empty file, no header line"))?;
+    let header = lines.next().ok_or_else(|| OutputError::malformed(path, "empty file, no header line"))?;
     let columns: Vec<String> = header.split(',').map(str::to_string).collect();
-    let rows = lines
-        .enumerate()
-        .map(|(index, line)| parse_row(path, line, columns.len(), index + 2))
-        .collect::<Result<_, _>>()?;
+    let rows = lines.enumerate().map(|(index, line)| parse_row(path, line, columns.len(), index + 2)).collect::<Result<_, _>>()?;
     Ok(SeriesTable { columns, rows })
 }
 
-fn parse_row(
-    path: &Path,
-    line: &str,
-    width: usize,
-    line_number: usize,
-) -> Result<Vec<f64>, OutputError> {
+fn parse_row(path: &Path, line: &str, width: usize, line_number: usize) -> Result<Vec<f64>, OutputError> {
     let values = line
         .trim_end_matches(['\n', '\r'])
         .split(',')
@@ -177,40 +132,22 @@ fn parse_row(
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    OutputError::malformed(
-                        path,
-                        format!("line {line_number}: {field:?} is not a finite number"),
-                    )
-                })
+                .ok_or_else(|| OutputError::malformed(path, format!("line {line_number}: {field:?} is not a finite number")))
         })
         .collect::<Result<Vec<_>, _>>()?;
     if values.len() != width {
-        return Err(OutputError::malformed(
-            path,
-            format!(
-                "line {line_number} has {} values, the header {width}",
-                values.len()
-            ),
-        ));
+        return Err(OutputError::malformed(path, format!("line {line_number} has {} values, the header {width}", values.len())));
     }
     Ok(values)
 }
 
 fn checked_columns(path: &Path, columns: &[&str]) -> Result<Vec<String>, OutputError> {
     if columns.is_empty() {
-        return Err(OutputError::invalid(
-            path,
-            "a series needs at least one column",
-        ));
+        return Err(OutputError::invalid(path, "a series needs at least one column"));
     }
     let mut seen = BTreeSet::new();
     for &name in columns {
-        if name.is_empty()
-            || name.trim() != name
-            || name.contains([',', '"', '\n', '\r'])
-            || name.chars().any(char::is_control)
-        {
+        if name.is_empty() || name.trim() != name || name.contains([',', '"', '\n', '\r']) || name.chars().any(char::is_control) {
             return Err(OutputError::invalid(
                 path,
                 format!(
@@ -220,10 +157,7 @@ fn checked_columns(path: &Path, columns: &[&str]) -> Result<Vec<String>, OutputE
             ));
         }
         if !seen.insert(name) {
-            return Err(OutputError::invalid(
-                path,
-                format!("column {name:?} appears twice"),
-            ));
+            return Err(OutputError::invalid(path, format!("column {name:?} appears twice")));
         }
     }
     Ok(columns.iter().map(|c| c.to_string()).collect())
@@ -298,10 +232,7 @@ mod tests {
 
         let fresh = dir.join("fresh.csv");
         SeriesWriter::resume(&fresh, &COLUMNS, Some(1.0)).unwrap();
-        assert_eq!(
-            std::fs::read_to_string(&fresh).unwrap(),
-            "time,spillage_fraction,torque\n"
-        );
+        assert_eq!(std::fs::read_to_string(&fresh).unwrap(), "time,spillage_fraction,torque\n");
     }
 
     #[test]
@@ -310,22 +241,13 @@ mod tests {
         let path = dir.join("series.csv");
         let mut writer = SeriesWriter::create(&path, &COLUMNS).unwrap();
         let e = writer.write_row(&[0.0, f64::NAN, 1.0]).unwrap_err();
-        assert!(
-            matches!(&e, OutputError::NonFinite { field, .. } if field == "spillage_fraction"),
-            "{e}"
-        );
+        assert!(matches!(&e, OutputError::NonFinite { field, .. } if field == "spillage_fraction"), "{e}");
         let e = writer.write_row(&[0.0, 1.0]).unwrap_err();
         assert!(e.to_string().contains("has 2 values"), "{e}");
-        assert!(
-            read_series(&path).unwrap().rows.is_empty(),
-            "refused rows are not written"
-        );
+        assert!(read_series(&path).unwrap().rows.is_empty(), "refused rows are not written");
 
         for bad in [&["t", "t"][..], &["a,b"], &[""], &[" x"], &[]] {
-            assert!(
-                SeriesWriter::create(&dir.join("x.csv"), bad).is_err(),
-                "{bad:?}"
-            );
+            assert!(SeriesWriter::create(&dir.join("x.csv"), bad).is_err(), "{bad:?}");
         }
         std::fs::write(&path, "a,b\n1,2\n3\n").unwrap();
         let e = read_series(&path).unwrap_err();

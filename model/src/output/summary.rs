@@ -18,10 +18,7 @@ pub struct Versions {
 impl Versions {
     /// The versions of this build.
     pub fn of_this_build() -> Self {
-        Versions {
-            crate_version: env!("CARGO_PKG_VERSION").to_string(),
-            git_hash: option_env!("SPILLAGE_GIT_HASH").map(str::to_string),
-        }
+        Versions { crate_version: env!("CARGO_PKG_VERSION").to_string(), git_hash: option_env!("SPILLAGE_GIT_HASH").map(str::to_string) }
     }
 }
 
@@ -71,21 +68,13 @@ impl Summary {
         for (map_name, map) in [("results", &self.results), ("timings_s", &self.timings_s)] {
             for (index, (key, &value)) in map.iter().enumerate() {
                 if !value.is_finite() {
-                    return Err(OutputError::NonFinite {
-                        path: path.to_path_buf(),
-                        field: format!("{map_name}.{key}"),
-                        index,
-                        value,
-                    });
+                    return Err(OutputError::NonFinite { path: path.to_path_buf(), field: format!("{map_name}.{key}"), index, value });
                 }
             }
         }
-        let mut text = serde_json::to_string_pretty(self)
-            .map_err(|e| OutputError::invalid(path, format!("cannot serialise: {e}")))?;
+        let mut text = serde_json::to_string_pretty(self).map_err(|e| OutputError::invalid(path, format!("cannot serialise: {e}")))?;
         text.push('\n');
-        write_atomically(path, |w| {
-            std::io::Write::write_all(w, text.as_bytes()).map_err(|e| OutputError::io(path, e))
-        })
+        write_atomically(path, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(|e| OutputError::io(path, e)))
     }
 
     /// Reads a summary written by [`Summary::write`].
@@ -113,20 +102,14 @@ mod tests {
         summary.write(&path).unwrap();
         let read = Summary::read(&path).unwrap();
         assert_eq!(read, summary);
-        assert_eq!(
-            read.results["spillage_fraction"].to_bits(),
-            (1.0_f64 / 3.0).to_bits()
-        );
+        assert_eq!(read.results["spillage_fraction"].to_bits(), (1.0_f64 / 3.0).to_bits());
         assert_eq!(read.versions.crate_version, env!("CARGO_PKG_VERSION"));
 
-        let value: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let value: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
         assert_eq!(value["case_name"], "cutter_small");
         assert_eq!(value["solver"], "reference");
         assert_eq!(value["details"]["mesh"]["cells"], 4096);
-        assert!(
-            value["versions"]["git_hash"].is_null() || value["versions"]["git_hash"].is_string()
-        );
+        assert!(value["versions"]["git_hash"].is_null() || value["versions"]["git_hash"].is_string());
     }
 
     #[test]
@@ -160,11 +143,7 @@ mod tests {
         summary.write(&path).unwrap();
         let read = Summary::read(&path).unwrap();
         for (key, value) in &summary.results {
-            assert_eq!(
-                read.results[key].to_bits(),
-                value.to_bits(),
-                "{key}: {value:e}"
-            );
+            assert_eq!(read.results[key].to_bits(), value.to_bits(), "{key}: {value:e}");
         }
     }
 

@@ -8,4 +8,4 @@ pub mod settings;
 pub mod state;
 
 pub use initial::{initial_state, place_without_overlap};
-pub use state::{ContactRecord, ImpactRecord, Partner, Particle, ParticleCounts, ParticleState};
+pub use state::{ContactRecord, ImpactRecord, Particle, ParticleCounts, ParticleState, Partner};

@@ -252,7 +252,11 @@ impl GroupSection {
                 }
                 for (name, list) in [("velocities", velocities), ("spins", spins)] {
                     if !list.is_empty() && list.len() != positions.len() {
-                        return Err(FieldError::new(format!("{key}.{name}"), format!("({} entries)", list.len()), format!("none or one per position ({})", positions.len())));
+                        return Err(FieldError::new(
+                            format!("{key}.{name}"),
+                            format!("({} entries)", list.len()),
+                            format!("none or one per position ({})", positions.len()),
+                        ));
                     }
                     for (i, v) in list.iter().enumerate() {
                         finite_vector(&format!("{key}.{name}.{i}"), *v)?;
@@ -265,7 +269,11 @@ impl GroupSection {
                 region.validate(&format!("{key}.region"))?;
                 positive(&format!("{key}.spacing"), *spacing, "m")?;
                 if *spacing < diameter.largest() {
-                    return Err(FieldError::new(format!("{key}.spacing"), spacing, format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest())));
+                    return Err(FieldError::new(
+                        format!("{key}.spacing"),
+                        spacing,
+                        format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest()),
+                    ));
                 }
                 finite_vector(&format!("{key}.velocity"), *velocity)
             }

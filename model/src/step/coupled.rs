@@ -223,7 +223,8 @@ fn exit_route(domain: Option<&crate::particles::settings::BoxRegion>, mesh: Opti
     if mesh.locate(position).is_some() {
         return None;
     }
-    let nearest = (mesh.n_internal_faces..mesh.n_faces()).min_by(|&a, &b| (mesh.face_centres[a] - position).norm_squared().total_cmp(&(mesh.face_centres[b] - position).norm_squared()))?;
+    let nearest = (mesh.n_internal_faces..mesh.n_faces())
+        .min_by(|&a, &b| (mesh.face_centres[a] - position).norm_squared().total_cmp(&(mesh.face_centres[b] - position).norm_squared()))?;
     let patch = mesh.patches.iter().find(|p| p.faces().contains(&nearest)).map_or_else(|| "boundary".to_string(), |p| p.name.clone());
     Some(ExitRoute::Patch(patch))
 }

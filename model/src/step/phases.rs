@@ -43,7 +43,13 @@ pub trait FluidPhase {
     /// Turns the rotor zone to `pose` without solving (start-up and restarts).
     fn place_rotor(&mut self, pose: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError>;
     /// Advances `fluid` from tⁿ to tⁿ⁺¹ and appends its diagnostics to `report`.
-    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError>;
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        fluid: &mut FluidState,
+        load: Option<&ParticleLoad>,
+        report: &mut StepReport,
+    ) -> Result<FluidStepOutcome, SolverError>;
     /// The fluid each particle sees, in particle order, appended to `out` (`None` for a
     /// particle outside the mesh).
     fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>);
@@ -80,7 +86,13 @@ impl<T: FluidPhase + ?Sized> FluidPhase for Box<T> {
     fn place_rotor(&mut self, pose: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError> {
         (**self).place_rotor(pose)
     }
-    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        fluid: &mut FluidState,
+        load: Option<&ParticleLoad>,
+        report: &mut StepReport,
+    ) -> Result<FluidStepOutcome, SolverError> {
         (**self).advance(ctx, fluid, load, report)
     }
     fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
@@ -135,7 +147,14 @@ impl ParticlePhase for Absent {
     fn name(&self) -> &'static str {
         match *self {}
     }
-    fn advance(&mut self, _: &StepContext, _: &mut ParticleState, _: &mut WallState, _: &[Option<FluidAtParticle>], _: &mut StepReport) -> Result<Option<ParticleLoad>, SolverError> {
+    fn advance(
+        &mut self,
+        _: &StepContext,
+        _: &mut ParticleState,
+        _: &mut WallState,
+        _: &[Option<FluidAtParticle>],
+        _: &mut StepReport,
+    ) -> Result<Option<ParticleLoad>, SolverError> {
         match *self {}
     }
 }

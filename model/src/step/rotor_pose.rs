@@ -26,12 +26,7 @@ pub struct RotorPose {
 impl RotorPose {
     /// The pose of the case's `[rotor]` at `angle`; `None` without a rotor.
     pub fn from_case(case: &Case, angle: f64) -> Option<RotorPose> {
-        case.rotor.as_ref().map(|r| RotorPose {
-            axis: Vec3::from(r.axis).normalize(),
-            origin: Vec3::from(r.origin),
-            omega: r.angular_velocity(),
-            angle,
-        })
+        case.rotor.as_ref().map(|r| RotorPose { axis: Vec3::from(r.axis).normalize(), origin: Vec3::from(r.origin), omega: r.angular_velocity(), angle })
     }
 
     /// The pose `dt` seconds later (constant ω).
@@ -61,7 +56,8 @@ impl RotorZone {
     /// turn.
     pub fn from_case(case: &Case, mesh: &crate::mesh::Mesh) -> Result<Option<RotorZone>, String> {
         let (Some(section), Some(pose)) = (&case.rotor, RotorPose::from_case(case, 0.0)) else { return Ok(None) };
-        let zone = mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| format!("rotor.zone = {:?} is not a zone of the mesh", section.zone))?;
+        let zone =
+            mesh.zones.iter().position(|z| z.name == section.zone).ok_or_else(|| format!("rotor.zone = {:?} is not a zone of the mesh", section.zone))?;
         if mesh.zones[zone].rotation.is_none() {
             return Err(format!("mesh zone {:?} cannot rotate", section.zone));
         }

@@ -28,8 +28,12 @@ impl TimeStepControl {
         let t = &case.time;
         match (t.dt, t.max_courant) {
             (Some(dt), _) => Ok(TimeStepControl::Fixed { dt, end_time: t.end_time }),
-            (None, Some(max_courant)) if has_fluid => Ok(TimeStepControl::Courant { max_courant, max_dt: t.max_dt.unwrap_or(f64::INFINITY), end_time: t.end_time }),
-            (None, Some(_)) => Err(SolverError::Unsupported("`[time] max_courant` needs a fluid; a particle-only run needs a fixed `[time] dt` for its outer step".into())),
+            (None, Some(max_courant)) if has_fluid => {
+                Ok(TimeStepControl::Courant { max_courant, max_dt: t.max_dt.unwrap_or(f64::INFINITY), end_time: t.end_time })
+            }
+            (None, Some(_)) => {
+                Err(SolverError::Unsupported("`[time] max_courant` needs a fluid; a particle-only run needs a fixed `[time] dt` for its outer step".into()))
+            }
             (None, None) => Err(SolverError::Unsupported("`[time]` needs `dt` or `max_courant`".into())),
         }
     }
@@ -60,7 +64,11 @@ impl TimeStepControl {
         Ok(match end_time {
             Some(end) if matches!(self, TimeStepControl::Courant { .. }) && end - state.time < 1.5 * dt && end > state.time => {
                 let remaining = end - state.time;
-                if remaining <= dt { remaining } else { 0.5 * remaining }
+                if remaining <= dt {
+                    remaining
+                } else {
+                    0.5 * remaining
+                }
             }
             _ => dt,
         })

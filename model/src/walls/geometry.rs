@@ -73,14 +73,7 @@ pub fn box_faces(min: Vec3, max: Vec3, divisions: u32, open: &[String]) -> Trian
     let mut mesh = TriangleMesh::default();
     let e = max - min;
     let (ex, ey, ez) = (Vec3::new(e.x, 0.0, 0.0), Vec3::new(0.0, e.y, 0.0), Vec3::new(0.0, 0.0, e.z));
-    let faces = [
-        ("-x", min, ey, ez),
-        ("+x", min + ex, ez, ey),
-        ("-y", min, ez, ex),
-        ("+y", min + ey, ex, ez),
-        ("-z", min, ex, ey),
-        ("+z", min + ez, ey, ex),
-    ];
+    let faces = [("-x", min, ey, ez), ("+x", min + ex, ez, ey), ("-y", min, ez, ex), ("+y", min + ey, ex, ez), ("-z", min, ex, ey), ("+z", min + ez, ey, ex)];
     for (name, corner, u, v) in faces {
         if !open.iter().any(|o| o == name) {
             mesh.push_quad_grid(corner, u, v, divisions, divisions);
@@ -247,7 +240,18 @@ mod tests {
         // Centres over face interiors, edges, diagonals and vertices (the grid has 0.1 spacing).
         // Including points 1e-9 and 1e-7 beside an edge, where the neighbour's edge point is
         // farther only by a second-order amount.
-        for (x, y) in [(0.0, 0.0), (0.05, 0.0), (0.05, 0.05), (0.01, 0.03), (0.1, 0.1), (0.13, 0.1), (-0.2, 0.37), (0.1 + 1e-9, 0.03), (0.03, 0.1 - 1e-7), (0.05 + 1e-8, 0.05)] {
+        for (x, y) in [
+            (0.0, 0.0),
+            (0.05, 0.0),
+            (0.05, 0.05),
+            (0.01, 0.03),
+            (0.1, 0.1),
+            (0.13, 0.1),
+            (-0.2, 0.37),
+            (0.1 + 1e-9, 0.03),
+            (0.03, 0.1 - 1e-7),
+            (0.05 + 1e-8, 0.05),
+        ] {
             let contacts = plane.sphere_contacts(Vec3::new(x, y, 0.04), 0.05);
             assert_eq!(contacts.len(), 1, "at ({x}, {y})");
             assert!((contacts[0].distance - 0.04).abs() < 1e-14);
@@ -270,7 +274,11 @@ mod tests {
         assert_eq!(c.triangles.len(), 64);
         let d = disc(Vec3::zeros(), Vec3::z(), 0.5, 16, 3);
         assert_eq!(d.triangles.len(), 16 + 2 * 32);
-        let area: f64 = d.triangles.iter().map(|t| 0.5 * (d.vertices[t[1] as usize] - d.vertices[t[0] as usize]).cross(&(d.vertices[t[2] as usize] - d.vertices[t[0] as usize])).norm()).sum();
+        let area: f64 = d
+            .triangles
+            .iter()
+            .map(|t| 0.5 * (d.vertices[t[1] as usize] - d.vertices[t[0] as usize]).cross(&(d.vertices[t[2] as usize] - d.vertices[t[0] as usize])).norm())
+            .sum();
         let polygon = 0.5 * 16.0 * 0.25 * (2.0 * std::f64::consts::PI / 16.0).sin();
         assert!((area - polygon).abs() < 1e-12);
     }

@@ -26,25 +26,35 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
     let mut walls = Vec::new();
     for (i, section) in case.walls.iter().enumerate() {
         let key = format!("walls.{i}");
-        let material = case
-            .particles
-            .as_ref()
-            .and_then(|p| p.material_index(&section.material))
-            .ok_or_else(|| WallError::Field(FieldError::new(format!("{key}.material"), format!("{:?}", section.material), "the name of a [[particles.materials]] entry")))?;
+        let material = case.particles.as_ref().and_then(|p| p.material_index(&section.material)).ok_or_else(|| {
+            WallError::Field(FieldError::new(format!("{key}.material"), format!("{:?}", section.material), "the name of a [[particles.materials]] entry"))
+        })?;
         let mesh = match &section.shape {
-            ShapeSection::Plane { centre, normal, size, divisions, u_axis } => geometry::plane(Vec3::from(*centre), Vec3::from(*normal), *size, *divisions, u_axis.map(Vec3::from)),
+            ShapeSection::Plane { centre, normal, size, divisions, u_axis } => {
+                geometry::plane(Vec3::from(*centre), Vec3::from(*normal), *size, *divisions, u_axis.map(Vec3::from))
+            }
             ShapeSection::Box { min, max, divisions, open } => geometry::box_faces(Vec3::from(*min), Vec3::from(*max), *divisions, open),
-            ShapeSection::Cylinder { origin, axis, radius, length, segments, layers } => geometry::cylinder(Vec3::from(*origin), Vec3::from(*axis), *radius, *length, *segments, *layers),
-            ShapeSection::Disc { centre, normal, radius, segments, rings } => geometry::disc(Vec3::from(*centre), Vec3::from(*normal), *radius, *segments, *rings),
-            ShapeSection::Stl { file, scale } => stl::read_stl(&case_dir.join(file), *scale).map_err(|message| WallError::Geometry { wall: section.name.clone(), message })?,
+            ShapeSection::Cylinder { origin, axis, radius, length, segments, layers } => {
+                geometry::cylinder(Vec3::from(*origin), Vec3::from(*axis), *radius, *length, *segments, *layers)
+            }
+            ShapeSection::Disc { centre, normal, radius, segments, rings } => {
+                geometry::disc(Vec3::from(*centre), Vec3::from(*normal), *radius, *segments, *rings)
+            }
+            ShapeSection::Stl { file, scale } => {
+                stl::read_stl(&case_dir.join(file), *scale).map_err(|message| WallError::Geometry { wall: section.name.clone(), message })?
+            }
         };
         let motion = match &section.motion {
             MotionSection::Static => WallMotion::Static,
             MotionSection::Rotor => {
-                case.rotor.as_ref().ok_or_else(|| WallError::Field(FieldError::new(format!("{key}.motion.type"), "\"rotor\"", "a [rotor] section to turn with")))?;
+                case.rotor
+                    .as_ref()
+                    .ok_or_else(|| WallError::Field(FieldError::new(format!("{key}.motion.type"), "\"rotor\"", "a [rotor] section to turn with")))?;
                 WallMotion::Rotor
             }
-            MotionSection::Rotate { omega, axis, origin } => WallMotion::Rotate { omega: *omega, axis: Vec3::from(*axis).normalize(), origin: Vec3::from(*origin) },
+            MotionSection::Rotate { omega, axis, origin } => {
+                WallMotion::Rotate { omega: *omega, axis: Vec3::from(*axis).normalize(), origin: Vec3::from(*origin) }
+            }
             MotionSection::Translate { velocity } => WallMotion::Translate { velocity: Vec3::from(*velocity) },
         };
         let TriangleMesh { vertices, triangles } = mesh;

@@ -16,9 +16,15 @@ pub enum WallMotion {
     Rotor,
     /// Its own rotation at `omega` about the unit `axis` through `origin` (body-frame point),
     /// turned ω t at time t.
-    Rotate { omega: f64, axis: Vec3, origin: Vec3 },
+    Rotate {
+        omega: f64,
+        axis: Vec3,
+        origin: Vec3,
+    },
     /// Translation by v t at time t.
-    Translate { velocity: Vec3 },
+    Translate {
+        velocity: Vec3,
+    },
 }
 
 /// Where a wall is at one instant: derived from the time and the rotor pose by [`Wall::place`].
@@ -64,7 +70,9 @@ impl Wall {
     pub fn place(&mut self, time: f64, rotor: Option<&crate::step::RotorPose>) {
         self.pose = match (&self.motion, rotor) {
             (WallMotion::Rotor, Some(r)) => WallPose { omega: r.omega, axis: r.axis, origin: r.origin, angle: r.angle, ..WallPose::default() },
-            (WallMotion::Rotate { omega, axis, origin }, _) => WallPose { omega: *omega, axis: *axis, origin: *origin, angle: omega * time, ..WallPose::default() },
+            (WallMotion::Rotate { omega, axis, origin }, _) => {
+                WallPose { omega: *omega, axis: *axis, origin: *origin, angle: omega * time, ..WallPose::default() }
+            }
             (WallMotion::Translate { velocity }, _) => WallPose { velocity: *velocity, displacement: velocity * time, ..WallPose::default() },
             (WallMotion::Static, _) | (WallMotion::Rotor, None) => WallPose::default(),
         };

@@ -91,11 +91,27 @@ pub struct MaterialConstants {
 pub const PRESETS: [(&str, MaterialConstants); 2] = [
     (
         "carbon_steel_1018",
-        MaterialConstants { density: 7870.0, cutting_coefficient: 0.01, vickers_hardness: 131.0, sharpness: 0.5, contact_ratio: 0.4, deformation_factor: 4.2e11, threshold_velocity: 0.5 },
+        MaterialConstants {
+            density: 7870.0,
+            cutting_coefficient: 0.01,
+            vickers_hardness: 131.0,
+            sharpness: 0.5,
+            contact_ratio: 0.4,
+            deformation_factor: 4.2e11,
+            threshold_velocity: 0.5,
+        },
     ),
     (
         "stainless_steel_316",
-        MaterialConstants { density: 8000.0, cutting_coefficient: 0.0125, vickers_hardness: 224.0, sharpness: 0.5, contact_ratio: 0.4, deformation_factor: 1.4e11, threshold_velocity: 5.7 },
+        MaterialConstants {
+            density: 8000.0,
+            cutting_coefficient: 0.0125,
+            vickers_hardness: 224.0,
+            sharpness: 0.5,
+            contact_ratio: 0.4,
+            deformation_factor: 1.4e11,
+            threshold_velocity: 5.7,
+        },
     ),
 ];
 
@@ -110,7 +126,9 @@ impl WearMaterial {
             None => None,
         };
         let pick = |key: &str, given: Option<f64>, from: fn(&MaterialConstants) -> f64| -> Result<f64, FieldError> {
-            given.or(base.as_ref().map(from)).ok_or_else(|| FieldError::new(format!("wear.material.{key}"), "(missing)", "a value, or a `preset` that provides it"))
+            given
+                .or(base.as_ref().map(from))
+                .ok_or_else(|| FieldError::new(format!("wear.material.{key}"), "(missing)", "a value, or a `preset` that provides it"))
         };
         Ok(MaterialConstants {
             density: pick("density", self.density, |c| c.density)?,
@@ -129,7 +147,11 @@ impl WearSection {
     pub fn validate(&self, wall_names: &[&str]) -> Result<(), FieldError> {
         for (i, name) in self.walls.iter().enumerate() {
             if !wall_names.contains(&name.as_str()) {
-                return Err(FieldError::new(format!("wear.walls.{i}"), format!("{name:?}"), format!("the name of a [[walls]] entry: {}", wall_names.join(", "))));
+                return Err(FieldError::new(
+                    format!("wear.walls.{i}"),
+                    format!("{name:?}"),
+                    format!("the name of a [[walls]] entry: {}", wall_names.join(", ")),
+                ));
             }
         }
         if !(self.acceleration.is_finite() && self.acceleration >= 1.0) {

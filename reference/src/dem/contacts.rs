@@ -59,7 +59,12 @@ impl Context<'_> {
 /// Evaluates every contact: sets each particle's contact force, torque and count, updates the
 /// history (new records at first touch, records of ended contacts dropped) and appends the
 /// impacts of new wall contacts. Returns the contact samples.
-pub fn evaluate(context: &Context, particles: &mut [Particle], history: &mut BTreeMap<(u64, Partner), Vec<ContactRecord>>, impacts: &mut Vec<ImpactRecord>) -> Vec<ContactSample> {
+pub fn evaluate(
+    context: &Context,
+    particles: &mut [Particle],
+    history: &mut BTreeMap<(u64, Partner), Vec<ContactRecord>>,
+    impacts: &mut Vec<ImpactRecord>,
+) -> Vec<ContactSample> {
     for p in particles.iter_mut() {
         p.contact_force = Vec3::zeros();
         p.contact_torque = Vec3::zeros();

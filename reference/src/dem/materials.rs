@@ -1,6 +1,8 @@
 //! Contact constants of every material pair, resolved once from `[[particles.materials]]`.
 
-use spillage_model::closure::contact::{effective_shear_modulus, effective_youngs_modulus, harmonic, normal_stiffness, tangential_stiffness, PairConstants, SlipTest};
+use spillage_model::closure::contact::{
+    effective_shear_modulus, effective_youngs_modulus, harmonic, normal_stiffness, tangential_stiffness, PairConstants, SlipTest,
+};
 use spillage_model::particles::settings::MaterialSection;
 
 /// What the contact law needs of one pair of materials.

@@ -76,7 +76,16 @@ impl ReferenceDem {
             _ => None,
         };
         let drag_law = section.ambient.as_ref().map(|a| a.drag).unwrap_or_default();
-        Ok(Self { gravity: Vec3::from(case.physics.gravity), wall_meshes, wet_fluid, drag_law, history: BTreeMap::new(), samples: Vec::new(), materials, section })
+        Ok(Self {
+            gravity: Vec3::from(case.physics.gravity),
+            wall_meshes,
+            wet_fluid,
+            drag_law,
+            history: BTreeMap::new(),
+            samples: Vec::new(),
+            materials,
+            section,
+        })
     }
 
     fn history_from_records(records: &[ContactRecord]) -> BTreeMap<(u64, Partner), Vec<ContactRecord>> {

@@ -100,12 +100,7 @@ pub struct Geometry {
 impl Geometry {
     /// Builds the links of the mesh in its current position. `patch_condition[k]` is the index
     /// of the case condition of mesh patch k (`None` for empty and interface patches).
-    pub fn build(
-        mesh: &Mesh,
-        patch_condition: &[Option<usize>],
-        rotor: Option<&RotorMotion>,
-        interface_links: Vec<Link>,
-    ) -> Geometry {
+    pub fn build(mesh: &Mesh, patch_condition: &[Option<usize>], rotor: Option<&RotorMotion>, interface_links: Vec<Link>) -> Geometry {
         let n_cells = mesh.cell_volumes.len();
         let in_rotor = cell_in_rotor(mesh, rotor);
         let moving_velocity = |cell: usize, x: &Vec3| -> Vec3 {

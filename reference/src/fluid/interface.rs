@@ -141,16 +141,7 @@ fn overlap_link(
 ) -> Link {
     let owner = mesh.face_owner[rotor_face];
     let neighbour = mesh.face_owner[stator_face];
-    let g = frame.overlap_link(
-        radius,
-        theta_lo,
-        theta_hi,
-        z_lo,
-        z_hi,
-        &mesh.face_areas[rotor_face],
-        &mesh.cell_centres[owner],
-        &mesh.cell_centres[neighbour],
-    );
+    let g = frame.overlap_link(radius, theta_lo, theta_hi, z_lo, z_hi, &mesh.face_areas[rotor_face], &mesh.cell_centres[owner], &mesh.cell_centres[neighbour]);
     let mesh_flux = match rotor {
         Some(r) => r.velocity_at(&g.centre).dot(&g.area),
         None => 0.0,

@@ -83,13 +83,7 @@ pub fn boundary_velocities(inputs: &StepInputs, u: &[Vec3]) -> Vec<Vec3> {
 /// Assembles the momentum system with the latest fluxes (`link_flux`, `boundary_flux`,
 /// absolute), velocity `u` and its gradient `grad_u`, then applies implicit under-relaxation
 /// a_P ← a_P/α_u, b ← b + (1 − α_u)/α_u · a_P u*.
-pub fn assemble(
-    inputs: &StepInputs,
-    link_flux: &[f64],
-    boundary_flux: &[f64],
-    u: &[Vec3],
-    grad_u: &[[Vec3; 3]],
-) -> MomentumSystem {
+pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u: &[Vec3], grad_u: &[[Vec3; 3]]) -> MomentumSystem {
     let geo = inputs.geo;
     let n = geo.n_cells();
     let numerics = inputs.numerics;

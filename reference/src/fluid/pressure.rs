@@ -72,12 +72,7 @@ pub fn boundary_pressures(inputs: &StepInputs, hbya: &[Vec3], rau: &[f64], p: &[
 
 /// Runs one corrector; returns the initial residual of the pressure equation (the residual of
 /// the pressure before this solve, normalised as OpenFOAM does).
-pub fn correct(
-    inputs: &StepInputs,
-    system: &MomentumSystem,
-    prescribed: &[Option<f64>],
-    fields: CorrectorFields,
-) -> Result<f64, SolverError> {
+pub fn correct(inputs: &StepInputs, system: &MomentumSystem, prescribed: &[Option<f64>], fields: CorrectorFields) -> Result<f64, SolverError> {
     let geo = inputs.geo;
     let n = geo.n_cells();
     let (hbya, rau) = h_by_a(inputs, system, fields.u);
@@ -113,14 +108,13 @@ pub fn correct(
             // OpenFOAM's skewCorrected scheme, with ∇u of the momentum assembly of this outer
             // iteration in place of ∇(A⁻¹H) = ∇u + ∇(A⁻¹∇P), A⁻¹ ≈ Δt/c₀, so the difference is
             // O(Δt·|k|) = O(h²) with Δt ∝ h.]
-            let hbya_f = link.interpolate_vec(hbya[p], hbya[nb])
-                + directional(&interpolate_tensor(link.weight, &system.grad_u[p], &system.grad_u[nb]), &link.skew);
+            let hbya_f =
+                link.interpolate_vec(hbya[p], hbya[nb]) + directional(&interpolate_tensor(link.weight, &system.grad_u[p], &system.grad_u[nb]), &link.skew);
             let grad_f = link.interpolate_vec(grad_p[p], grad_p[nb]);
             // predicted flux (A⁻¹H)_f·S minus the explicit non-orthogonal pressure part, plus
             // the time-derivative flux correction (old fluxes in place of interpolated old
             // velocities)
-            let h_flux = hbya_f.dot(&link.area) - rau_f * grad_f.dot(&link.non_orthogonal_part())
-                + rau_f * inputs.ddt_flux_correction[l];
+            let h_flux = hbya_f.dot(&link.area) - rau_f * grad_f.dot(&link.non_orthogonal_part()) + rau_f * inputs.ddt_flux_correction[l];
             link_h_flux[l] = h_flux;
             let c = alpha_f * rau_f * link.laplacian_coefficient();
             lap.add_diagonal(p, c);
@@ -165,8 +159,7 @@ pub fn correct(
     for (b, face) in geo.boundary.iter().enumerate() {
         if let Condition::FixedPressure { pressure } = &inputs.conditions.conditions[face.patch] {
             let p = face.cell;
-            fields.boundary_flux[b] =
-                hbya[p].dot(&face.area) - rau[p] * face.area.norm() / face.normal_distance * (pressure - p_work[p]);
+            fields.boundary_flux[b] = hbya[p].dot(&face.area) - rau[p] * face.area.norm() / face.normal_distance * (pressure - p_work[p]);
         }
     }
 

@@ -8,14 +8,7 @@ use super::gradient::directional;
 
 /// Owner weight of the face value for a face with relative flux `flux` (owner → neighbour).
 /// `grad` are the cell gradients of the latest velocity iterate (used by the limiter only).
-pub fn convection_weight(
-    scheme: ConvectionScheme,
-    linear_fraction: f64,
-    link: &Link,
-    flux: f64,
-    u: &[Vec3],
-    grad: &[[Vec3; 3]],
-) -> f64 {
+pub fn convection_weight(scheme: ConvectionScheme, linear_fraction: f64, link: &Link, flux: f64, u: &[Vec3], grad: &[[Vec3; 3]]) -> f64 {
     let upwind = if flux >= 0.0 { 1.0 } else { 0.0 };
     match scheme {
         ConvectionScheme::Linear => link.weight,
@@ -36,10 +29,6 @@ fn limited_linear_v(link: &Link, flux: f64, u: &[Vec3], grad: &[[Vec3; 3]]) -> f
     let upwind_cell = if flux >= 0.0 { link.owner } else { link.neighbour };
     let gradcf = gradf.dot(&directional(&grad[upwind_cell], &link.delta));
     let gradf2 = gradf.norm_squared();
-    let r = if gradcf.abs() >= 1000.0 * gradf2 {
-        2.0 * 1000.0 * gradcf.signum() * gradf2.signum() - 1.0
-    } else {
-        2.0 * gradcf / gradf2 - 1.0
-    };
+    let r = if gradcf.abs() >= 1000.0 * gradf2 { 2.0 * 1000.0 * gradcf.signum() * gradf2.signum() - 1.0 } else { 2.0 * gradcf / gradf2 - 1.0 };
     (2.0 * r).clamp(0.0, 1.0)
 }

@@ -118,8 +118,7 @@ impl ReferenceFluid {
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
         let boundary_velocity: Vec<Option<Vec3>> =
             geo.boundary.iter().map(|face| boundary::fixed_velocity(&self.conditions, face, self.rotor.as_ref())).collect();
-        let prescribed: Vec<Option<f64>> =
-            geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
+        let prescribed: Vec<Option<f64>> = geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
         let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &moved, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {
@@ -156,8 +155,7 @@ impl ReferenceFluid {
                 _ => link.interpolate_vec(u[link.owner], u[link.neighbour]).dot(&link.area),
             })
             .collect();
-        let mut boundary_flux: Vec<f64> =
-            geo.boundary.iter().enumerate().map(|(b, face)| prescribed[b].unwrap_or(fluid.flux[face.face])).collect();
+        let mut boundary_flux: Vec<f64> = geo.boundary.iter().enumerate().map(|(b, face)| prescribed[b].unwrap_or(fluid.flux[face.face])).collect();
 
         let mut outer_iterations = 0;
         let mut last_residual = f64::NAN;
@@ -309,7 +307,13 @@ impl FluidPhase for ReferenceFluid {
         Ok(())
     }
 
-    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&ParticleLoad>, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        fluid: &mut FluidState,
+        load: Option<&ParticleLoad>,
+        report: &mut StepReport,
+    ) -> Result<FluidStepOutcome, SolverError> {
         if load.is_some() {
             return Err(SolverError::Unsupported("two-way coupling (a particle load on the fluid) is not implemented yet".into()));
         }

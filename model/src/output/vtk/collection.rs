@@ -22,12 +22,7 @@ pub struct PvdEntry {
 impl PvdEntry {
     /// A frame in group "" and part 0, the usual case of one file per time.
     pub fn new(time: f64, file: impl Into<String>) -> Self {
-        PvdEntry {
-            time,
-            group: String::new(),
-            part: 0,
-            file: file.into(),
-        }
+        PvdEntry { time, group: String::new(), part: 0, file: file.into() }
     }
 }
 
@@ -41,10 +36,7 @@ pub struct PvdCollection {
 impl PvdCollection {
     /// Starts a new, empty index at `path` (replacing any existing one) and writes it.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
-        let collection = PvdCollection {
-            path: path.to_path_buf(),
-            entries: Vec::new(),
-        };
+        let collection = PvdCollection { path: path.to_path_buf(), entries: Vec::new() };
         collection.write()?;
         Ok(collection)
     }
@@ -58,10 +50,7 @@ impl PvdCollection {
         }
         let mut entries = read_pvd(path)?;
         entries.retain(|e| e.time <= restart_time);
-        let collection = PvdCollection {
-            path: path.to_path_buf(),
-            entries,
-        };
+        let collection = PvdCollection { path: path.to_path_buf(), entries };
         collection.write()?;
         Ok(collection)
     }
@@ -85,21 +74,12 @@ impl PvdCollection {
             if entry.time < last.time {
                 return Err(OutputError::invalid(
                     &self.path,
-                    format!(
-                        "frame {} at time {} comes before the last frame's time {}; times must not decrease",
-                        entry.file, entry.time, last.time
-                    ),
+                    format!("frame {} at time {} comes before the last frame's time {}; times must not decrease", entry.file, entry.time, last.time),
                 ));
             }
         }
         if entry.file.trim().is_empty() || entry.file.chars().any(char::is_control) {
-            return Err(OutputError::invalid(
-                &self.path,
-                format!(
-                    "frame file name {:?} must be non-empty without control characters",
-                    entry.file
-                ),
-            ));
+            return Err(OutputError::invalid(&self.path, format!("frame file name {:?} must be non-empty without control characters", entry.file)));
         }
         self.entries.push(entry);
         if let Err(e) = self.write() {
@@ -150,8 +130,7 @@ impl PvdCollection {
 pub fn read_pvd(path: &Path) -> Result<Vec<PvdEntry>, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;
     let bad = |message: String| OutputError::malformed(path, message);
-    let document =
-        roxmltree::Document::parse(&text).map_err(|e| bad(format!("not well-formed XML: {e}")))?;
+    let document = roxmltree::Document::parse(&text).map_err(|e| bad(format!("not well-formed XML: {e}")))?;
     let root = document.root_element();
     if root.tag_name().name() != "VTKFile" || root.attribute("type") != Some("Collection") {
         return Err(bad("root must be <VTKFile type=\"Collection\">".to_string()));
@@ -166,39 +145,19 @@ pub fn read_pvd(path: &Path) -> Result<Vec<PvdEntry>, OutputError> {
         return Err(bad("expected exactly one <Collection>".to_string()));
     };
     if collection.tag_name().name() != "Collection" {
-        return Err(bad(format!(
-            "unexpected <{}>",
-            collection.tag_name().name()
-        )));
+        return Err(bad(format!("unexpected <{}>", collection.tag_name().name())));
     }
     let mut entries = Vec::new();
     for node in collection.children().filter(|n| n.is_element()) {
         if node.tag_name().name() != "DataSet" {
-            return Err(bad(format!(
-                "unexpected <{}> in <Collection>",
-                node.tag_name().name()
-            )));
+            return Err(bad(format!("unexpected <{}> in <Collection>", node.tag_name().name())));
         }
-        let attribute = |name: &str| {
-            node.attribute(name)
-                .ok_or_else(|| bad(format!("<DataSet> {} lacks `{name}`", entries.len())))
-        };
+        let attribute = |name: &str| node.attribute(name).ok_or_else(|| bad(format!("<DataSet> {} lacks `{name}`", entries.len())));
         let time_text = attribute("timestep")?;
-        let time: f64 = time_text
-            .parse()
-            .ok()
-            .filter(|t: &f64| t.is_finite())
-            .ok_or_else(|| bad(format!("timestep {time_text:?} is not a finite number")))?;
+        let time: f64 = time_text.parse().ok().filter(|t: &f64| t.is_finite()).ok_or_else(|| bad(format!("timestep {time_text:?} is not a finite number")))?;
         let part_text = attribute("part")?;
-        let part = part_text
-            .parse()
-            .map_err(|_| bad(format!("part {part_text:?} is not a non-negative integer")))?;
-        entries.push(PvdEntry {
-            time,
-            group: attribute("group")?.to_string(),
-            part,
-            file: attribute("file")?.to_string(),
-        });
+        let part = part_text.parse().map_err(|_| bad(format!("part {part_text:?} is not a non-negative integer")))?;
+        entries.push(PvdEntry { time, group: attribute("group")?.to_string(), part, file: attribute("file")?.to_string() });
     }
     Ok(entries)
 }

@@ -116,11 +116,7 @@ impl UnstructuredCells {
 
     /// Room for `cells` cells of `points_per_cell` points each.
     pub fn with_capacity(cells: usize, points_per_cell: usize) -> Self {
-        UnstructuredCells {
-            connectivity: Vec::with_capacity(cells * points_per_cell),
-            offsets: Vec::with_capacity(cells),
-            types: Vec::with_capacity(cells),
-        }
+        UnstructuredCells { connectivity: Vec::with_capacity(cells * points_per_cell), offsets: Vec::with_capacity(cells), types: Vec::with_capacity(cells) }
     }
 
     /// All-hexahedron cells, each given as 8 point ids in VTK order.
@@ -149,15 +145,8 @@ impl UnstructuredCells {
 
     /// The point ids of cell `index`.
     pub fn cell(&self, index: usize) -> (CellType, &[usize]) {
-        let start = if index == 0 {
-            0
-        } else {
-            self.offsets[index - 1]
-        };
-        (
-            self.types[index],
-            &self.connectivity[start..self.offsets[index]],
-        )
+        let start = if index == 0 { 0 } else { self.offsets[index - 1] };
+        (self.types[index], &self.connectivity[start..self.offsets[index]])
     }
 }
 
@@ -196,24 +185,15 @@ pub struct Field<'a> {
 
 impl<'a> Field<'a> {
     pub fn scalar(name: &'a str, values: &'a [f64]) -> Self {
-        Field {
-            name,
-            values: FieldValues::Scalar(values),
-        }
+        Field { name, values: FieldValues::Scalar(values) }
     }
 
     pub fn vector(name: &'a str, values: &'a [[f64; 3]]) -> Self {
-        Field {
-            name,
-            values: FieldValues::Vector(values),
-        }
+        Field { name, values: FieldValues::Vector(values) }
     }
 
     pub fn int(name: &'a str, values: &'a [i64]) -> Self {
-        Field {
-            name,
-            values: FieldValues::Int(values),
-        }
+        Field { name, values: FieldValues::Int(values) }
     }
 }
 
@@ -234,10 +214,7 @@ pub enum PolyCells<'a> {
     /// Triangles through three point ids each (wall surface meshes).
     Triangles(&'a [[usize; 3]]),
     /// General polygons in flat layout: `offsets[i]` is the end of polygon `i` in `connectivity`.
-    Polygons {
-        connectivity: &'a [usize],
-        offsets: &'a [usize],
-    },
+    Polygons { connectivity: &'a [usize], offsets: &'a [usize] },
 }
 
 /// Points with vertex or polygon cells and fields: written as `.vtp`.
@@ -252,27 +229,12 @@ pub struct PolyData<'a> {
 impl<'a> PolyData<'a> {
     /// Particles: one vertex per centre; `point_data` holds the per-particle fields.
     pub fn particles(centres: &'a [[f64; 3]], point_data: Vec<Field<'a>>) -> Self {
-        PolyData {
-            points: centres,
-            cells: PolyCells::Vertices,
-            point_data,
-            cell_data: Vec::new(),
-        }
+        PolyData { points: centres, cells: PolyCells::Vertices, point_data, cell_data: Vec::new() }
     }
 
     /// A triangulated surface with per-vertex and per-triangle fields.
-    pub fn triangles(
-        points: &'a [[f64; 3]],
-        triangles: &'a [[usize; 3]],
-        point_data: Vec<Field<'a>>,
-        cell_data: Vec<Field<'a>>,
-    ) -> Self {
-        PolyData {
-            points,
-            cells: PolyCells::Triangles(triangles),
-            point_data,
-            cell_data,
-        }
+    pub fn triangles(points: &'a [[f64; 3]], triangles: &'a [[usize; 3]], point_data: Vec<Field<'a>>, cell_data: Vec<Field<'a>>) -> Self {
+        PolyData { points, cells: PolyCells::Triangles(triangles), point_data, cell_data }
     }
 
     /// Number of cells the file will hold (the length every cell field must have).

@@ -8,10 +8,7 @@ mod reader;
 mod writer;
 
 pub use collection::{read_pvd, PvdCollection, PvdEntry};
-pub use data::{
-    CellType, Encoding, Field, FieldValues, PolyCells, PolyData, UnstructuredCells,
-    UnstructuredGrid,
-};
+pub use data::{CellType, Encoding, Field, FieldValues, PolyCells, PolyData, UnstructuredCells, UnstructuredGrid};
 pub use reader::{read_vtk, ArrayValues, ReadArray, ReadCells, VtkDataset};
 pub use writer::{write_vtp, write_vtu};
 

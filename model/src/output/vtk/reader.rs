@@ -55,9 +55,7 @@ impl ReadArray {
     /// The values grouped into 3-vectors, when the array has three components of Float64.
     pub fn as_vectors(&self) -> Option<Vec<[f64; 3]>> {
         match (&self.values, self.components) {
-            (ArrayValues::Float64(v), 3) => {
-                Some(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
-            }
+            (ArrayValues::Float64(v), 3) => Some(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()),
             _ => None,
         }
     }
@@ -105,12 +103,8 @@ pub fn read_vtk(path: &Path) -> Result<VtkDataset, OutputError> {
     let bytes = std::fs::read(path).map_err(|e| OutputError::io(path, e))?;
     let bad = |message: String| OutputError::malformed(path, message);
     let (xml_text, appended) = split_appended_data(&bytes).map_err(bad)?;
-    let document = roxmltree::Document::parse(&xml_text)
-        .map_err(|e| bad(format!("not well-formed XML: {e}")))?;
-    let mut reader = ArrayReader {
-        appended,
-        blocks: Vec::new(),
-    };
+    let document = roxmltree::Document::parse(&xml_text).map_err(|e| bad(format!("not well-formed XML: {e}")))?;
+    let mut reader = ArrayReader { appended, blocks: Vec::new() };
     let dataset = read_document(&document, &mut reader).map_err(bad)?;
     reader.check_appended_blocks_tile_the_data().map_err(bad)?;
     Ok(dataset)
@@ -123,12 +117,8 @@ fn split_appended_data(bytes: &[u8]) -> Result<(String, Option<&[u8]>), String> 
         return Ok((text.to_string(), None));
     };
     let tag_end = open + find(&bytes[open..], b">").ok_or("unterminated <AppendedData> tag")?;
-    let underscore = tag_end
-        + find(&bytes[tag_end..], b"_").ok_or("<AppendedData> without the `_` data marker")?;
-    if !bytes[tag_end + 1..underscore]
-        .iter()
-        .all(u8::is_ascii_whitespace)
-    {
+    let underscore = tag_end + find(&bytes[tag_end..], b"_").ok_or("<AppendedData> without the `_` data marker")?;
+    if !bytes[tag_end + 1..underscore].iter().all(u8::is_ascii_whitespace) {
         return Err("text between <AppendedData> and the `_` marker".to_string());
     }
     let close = rfind(bytes, b"</AppendedData>").ok_or("no </AppendedData> closing tag")?;
@@ -153,70 +143,47 @@ fn rfind(haystack: &[u8], needle: &[u8]) -> Option<usize> {
 type Node<'a, 'input> = roxmltree::Node<'a, 'input>;
 
 fn required<'a>(node: Node<'a, '_>, attribute: &str) -> Result<&'a str, String> {
-    node.attribute(attribute).ok_or_else(|| {
-        format!(
-            "<{}> lacks the required attribute `{attribute}`",
-            node.tag_name().name()
-        )
-    })
+    node.attribute(attribute).ok_or_else(|| format!("<{}> lacks the required attribute `{attribute}`", node.tag_name().name()))
 }
 
 fn required_count(node: Node, attribute: &str) -> Result<usize, String> {
     let text = required(node, attribute)?;
-    text.parse()
-        .map_err(|_| format!("`{attribute}` = {text:?} is not a non-negative integer"))
+    text.parse().map_err(|_| format!("`{attribute}` = {text:?} is not a non-negative integer"))
 }
 
 fn element_children<'a, 'input>(node: Node<'a, 'input>) -> impl Iterator<Item = Node<'a, 'input>> {
     node.children().filter(|c| c.is_element())
 }
 
-fn read_document(
-    document: &roxmltree::Document,
-    reader: &mut ArrayReader,
-) -> Result<VtkDataset, String> {
+fn read_document(document: &roxmltree::Document, reader: &mut ArrayReader) -> Result<VtkDataset, String> {
     let root = document.root_element();
     if root.tag_name().name() != "VTKFile" {
-        return Err(format!(
-            "root element is <{}>, expected <VTKFile>",
-            root.tag_name().name()
-        ));
+        return Err(format!("root element is <{}>, expected <VTKFile>", root.tag_name().name()));
     }
     let dataset_type = required(root, "type")?.to_string();
     let version = required(root, "version")?.to_string();
     let byte_order = required(root, "byte_order")?;
     if byte_order != "LittleEndian" {
-        return Err(format!(
-            "byte_order {byte_order:?}; this reader handles LittleEndian"
-        ));
+        return Err(format!("byte_order {byte_order:?}; this reader handles LittleEndian"));
     }
     let header_type = required(root, "header_type")?;
     if header_type != "UInt64" {
-        return Err(format!(
-            "header_type {header_type:?}; this reader handles UInt64"
-        ));
+        return Err(format!("header_type {header_type:?}; this reader handles UInt64"));
     }
     if version != "1.0" {
-        return Err(format!(
-            "version {version:?}; header_type needs file version 1.0"
-        ));
+        return Err(format!("version {version:?}; header_type needs file version 1.0"));
     }
     let mut children = element_children(root);
     let dataset_node = children.next().ok_or("<VTKFile> has no dataset element")?;
     if dataset_node.tag_name().name() != dataset_type {
-        return Err(format!(
-            "type=\"{dataset_type}\" but the dataset element is <{}>",
-            dataset_node.tag_name().name()
-        ));
+        return Err(format!("type=\"{dataset_type}\" but the dataset element is <{}>", dataset_node.tag_name().name()));
     }
     match children.next() {
         None => {}
         Some(n) if n.tag_name().name() == "AppendedData" => {
             let encoding = required(n, "encoding")?;
             if encoding != "raw" {
-                return Err(format!(
-                    "AppendedData encoding {encoding:?}; expected \"raw\""
-                ));
+                return Err(format!("AppendedData encoding {encoding:?}; expected \"raw\""));
             }
         }
         Some(n) => return Err(format!("unexpected <{}> in <VTKFile>", n.tag_name().name())),
@@ -224,22 +191,14 @@ fn read_document(
 
     let pieces: Vec<_> = element_children(dataset_node).collect();
     let [piece] = pieces.as_slice() else {
-        return Err(format!(
-            "expected exactly one <Piece>, found {}",
-            pieces.len()
-        ));
+        return Err(format!("expected exactly one <Piece>, found {}", pieces.len()));
     };
     let n_points = required_count(*piece, "NumberOfPoints")?;
     let block_counts: Vec<(&str, usize)> = match dataset_type.as_str() {
         "UnstructuredGrid" => vec![("Cells", required_count(*piece, "NumberOfCells")?)],
         "PolyData" => {
             let mut counts = Vec::new();
-            for (element, attribute) in [
-                ("Verts", "NumberOfVerts"),
-                ("Lines", "NumberOfLines"),
-                ("Strips", "NumberOfStrips"),
-                ("Polys", "NumberOfPolys"),
-            ] {
+            for (element, attribute) in [("Verts", "NumberOfVerts"), ("Lines", "NumberOfLines"), ("Strips", "NumberOfStrips"), ("Polys", "NumberOfPolys")] {
                 counts.push((element, required_count(*piece, attribute)?));
             }
             counts
@@ -255,17 +214,11 @@ fn read_document(
     let mut encodings = Vec::new();
     for section in element_children(*piece) {
         let tag = section.tag_name().name();
-        let arrays = element_children(section)
-            .map(|a| reader.read(a, &mut encodings))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| format!("<{tag}>: {e}"))?;
+        let arrays = element_children(section).map(|a| reader.read(a, &mut encodings)).collect::<Result<Vec<_>, _>>().map_err(|e| format!("<{tag}>: {e}"))?;
         match tag {
             "Points" => {
                 let [array] = arrays.as_slice() else {
-                    return Err(format!(
-                        "<Points> holds {} arrays, expected 1",
-                        arrays.len()
-                    ));
+                    return Err(format!("<Points> holds {} arrays, expected 1", arrays.len()));
                 };
                 if array.components != 3 {
                     return Err("<Points> array must have NumberOfComponents=\"3\"".to_string());
@@ -290,13 +243,7 @@ fn read_document(
                 let Some(&(_, count)) = block_counts.iter().find(|(t, _)| *t == tag) else {
                     return Err(format!("unexpected <{tag}> in a {dataset_type} piece"));
                 };
-                let block = cell_block(
-                    tag,
-                    arrays,
-                    count,
-                    n_points,
-                    dataset_type == "UnstructuredGrid",
-                )?;
+                let block = cell_block(tag, arrays, count, n_points, dataset_type == "UnstructuredGrid")?;
                 if cell_blocks.insert(tag.to_string(), block).is_some() {
                     return Err(format!("<{tag}> appears twice"));
                 }
@@ -305,9 +252,7 @@ fn read_document(
     }
     for (tag, count) in &block_counts {
         if *count > 0 && !cell_blocks.contains_key(*tag) {
-            return Err(format!(
-                "the piece declares {count} {tag} but has no <{tag}> element"
-            ));
+            return Err(format!("the piece declares {count} {tag} but has no <{tag}> element"));
         }
     }
     if dataset_type == "UnstructuredGrid" && !cell_blocks.contains_key("Cells") {
@@ -320,9 +265,7 @@ fn read_document(
         _ => return Err("arrays mix ascii and appended formats".to_string()),
     };
     if (encoding == Encoding::AppendedRaw) != reader.appended.is_some() {
-        return Err(
-            "appended arrays and the <AppendedData> section must come together".to_string(),
-        );
+        return Err("appended arrays and the <AppendedData> section must come together".to_string());
     }
     Ok(VtkDataset {
         dataset_type,
@@ -355,15 +298,8 @@ fn check_tuples(section: &str, array: &ReadArray, expected: usize) -> Result<(),
     Ok(())
 }
 
-fn cell_block(
-    tag: &str,
-    arrays: Vec<ReadArray>,
-    count: usize,
-    n_points: usize,
-    with_types: bool,
-) -> Result<ReadCells, String> {
-    let mut by_name: BTreeMap<String, ArrayValues> =
-        arrays.into_iter().map(|a| (a.name, a.values)).collect();
+fn cell_block(tag: &str, arrays: Vec<ReadArray>, count: usize, n_points: usize, with_types: bool) -> Result<ReadCells, String> {
+    let mut by_name: BTreeMap<String, ArrayValues> = arrays.into_iter().map(|a| (a.name, a.values)).collect();
     let mut take_int = |name: &str| -> Result<Vec<i64>, String> {
         match by_name.remove(name) {
             Some(ArrayValues::Int64(v)) => Ok(v),
@@ -374,30 +310,19 @@ fn cell_block(
     let connectivity = take_int("connectivity")?;
     let offsets = take_int("offsets")?;
     if offsets.len() != count {
-        return Err(format!(
-            "<{tag}> has {} offsets but the piece declares {count} cells",
-            offsets.len()
-        ));
+        return Err(format!("<{tag}> has {} offsets but the piece declares {count} cells", offsets.len()));
     }
     let mut start = 0i64;
     for (i, &end) in offsets.iter().enumerate() {
         if end <= start {
-            return Err(format!(
-                "<{tag}> offsets must increase: cell {i} ends at {end} after {start}"
-            ));
+            return Err(format!("<{tag}> offsets must increase: cell {i} ends at {end} after {start}"));
         }
         start = end;
     }
     if start != connectivity.len() as i64 {
-        return Err(format!(
-            "<{tag}> last offset {start} but {} connectivity entries",
-            connectivity.len()
-        ));
+        return Err(format!("<{tag}> last offset {start} but {} connectivity entries", connectivity.len()));
     }
-    if let Some(&bad) = connectivity
-        .iter()
-        .find(|&&id| id < 0 || id as usize >= n_points)
-    {
+    if let Some(&bad) = connectivity.iter().find(|&&id| id < 0 || id as usize >= n_points) {
         return Err(format!("<{tag}> refers to point {bad} of {n_points}"));
     }
     let types = if with_types {
@@ -407,15 +332,11 @@ fn cell_block(
             None => return Err(format!("<{tag}> lacks the `types` array")),
         };
         if types.len() != count {
-            return Err(format!(
-                "<{tag}> has {} types for {count} cells",
-                types.len()
-            ));
+            return Err(format!("<{tag}> has {} types for {count} cells", types.len()));
         }
         let mut start = 0;
         for (i, (&t, &end)) in types.iter().zip(&offsets).enumerate() {
-            let cell_type = CellType::from_vtk_id(t)
-                .ok_or_else(|| format!("<{tag}> cell {i} has unknown VTK type {t}"))?;
+            let cell_type = CellType::from_vtk_id(t).ok_or_else(|| format!("<{tag}> cell {i} has unknown VTK type {t}"))?;
             let n = (end - start) as usize;
             if !cell_type.accepts_point_count(n) {
                 return Err(format!("<{tag}> cell {i} is {cell_type:?} with {n} points"));
@@ -429,11 +350,7 @@ fn cell_block(
     if let Some(extra) = by_name.keys().next() {
         return Err(format!("<{tag}> has an unexpected array `{extra}`"));
     }
-    Ok(ReadCells {
-        connectivity,
-        offsets,
-        types,
-    })
+    Ok(ReadCells { connectivity, offsets, types })
 }
 
 /// Decodes `DataArray`s, remembering where each appended one sat in the raw bytes.
@@ -467,44 +384,24 @@ impl ArrayReader<'_> {
                 let payload = self.payload(offset).map_err(|e| format!("`{name}`: {e}"))?;
                 decode_raw(vtk_type, payload).map_err(|e| format!("`{name}`: {e}"))?
             }
-            other => {
-                return Err(format!(
-                    "`{name}` has format {other:?}; expected ascii or appended"
-                ))
-            }
+            other => return Err(format!("`{name}` has format {other:?}; expected ascii or appended")),
         };
         if values.len() % components != 0 {
-            return Err(format!(
-                "`{name}` holds {} values, not a multiple of its {components} components",
-                values.len()
-            ));
+            return Err(format!("`{name}` holds {} values, not a multiple of its {components} components", values.len()));
         }
         if let ArrayValues::Float64(v) = &values {
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
                 return Err(format!("`{name}` has the non-finite value {} at {i}", v[i]));
             }
         }
-        Ok(ReadArray {
-            name,
-            components,
-            values,
-        })
+        Ok(ReadArray { name, components, values })
     }
 
     fn payload(&mut self, offset: usize) -> Result<&[u8], String> {
-        let data = self
-            .appended
-            .ok_or("appended array but no <AppendedData>")?;
-        let header = data.get(offset..offset + 8).ok_or_else(|| {
-            format!(
-                "offset {offset} is past the appended data ({} bytes)",
-                data.len()
-            )
-        })?;
+        let data = self.appended.ok_or("appended array but no <AppendedData>")?;
+        let header = data.get(offset..offset + 8).ok_or_else(|| format!("offset {offset} is past the appended data ({} bytes)", data.len()))?;
         let length = u64::from_le_bytes(header.try_into().expect("8 bytes")) as usize;
-        let payload = data.get(offset + 8..offset + 8 + length).ok_or_else(|| {
-            format!("its {length} bytes at offset {offset} overrun the appended data")
-        })?;
+        let payload = data.get(offset + 8..offset + 8 + length).ok_or_else(|| format!("its {length} bytes at offset {offset} overrun the appended data"))?;
         self.blocks.push((offset, 8 + length));
         Ok(payload)
     }
@@ -520,36 +417,20 @@ impl ArrayReader<'_> {
         let mut next = 0;
         for (offset, length) in blocks {
             if offset != next {
-                return Err(format!(
-                    "appended array at offset {offset}, expected {next}"
-                ));
+                return Err(format!("appended array at offset {offset}, expected {next}"));
             }
             next = offset + length;
         }
         if !data[next..].iter().all(u8::is_ascii_whitespace) {
-            return Err(format!(
-                "{} unexplained bytes after the last appended array",
-                data.len() - next
-            ));
+            return Err(format!("{} unexplained bytes after the last appended array", data.len() - next));
         }
         Ok(())
     }
 }
 
-fn parse_ascii<'t>(
-    vtk_type: &str,
-    tokens: impl Iterator<Item = &'t str>,
-) -> Result<ArrayValues, String> {
-    fn all<T: std::str::FromStr>(
-        tokens: impl Iterator<Item = impl AsRef<str>>,
-    ) -> Result<Vec<T>, String> {
-        tokens
-            .map(|t| {
-                t.as_ref()
-                    .parse()
-                    .map_err(|_| format!("cannot parse {:?}", t.as_ref()))
-            })
-            .collect()
+fn parse_ascii<'t>(vtk_type: &str, tokens: impl Iterator<Item = &'t str>) -> Result<ArrayValues, String> {
+    fn all<T: std::str::FromStr>(tokens: impl Iterator<Item = impl AsRef<str>>) -> Result<Vec<T>, String> {
+        tokens.map(|t| t.as_ref().parse().map_err(|_| format!("cannot parse {:?}", t.as_ref()))).collect()
     }
     Ok(match vtk_type {
         "Float64" => ArrayValues::Float64(all(tokens)?),
@@ -563,24 +444,13 @@ fn decode_raw(vtk_type: &str, bytes: &[u8]) -> Result<ArrayValues, String> {
     let eight = |what: &str| -> Result<std::slice::ChunksExact<'_, u8>, String> {
         #[allow(clippy::manual_is_multiple_of)] // is_multiple_of needs Rust 1.87; MSRV is 1.85
         if bytes.len() % 8 != 0 {
-            return Err(format!(
-                "{} bytes is not a whole number of {what}",
-                bytes.len()
-            ));
+            return Err(format!("{} bytes is not a whole number of {what}", bytes.len()));
         }
         Ok(bytes.chunks_exact(8))
     };
     Ok(match vtk_type {
-        "Float64" => ArrayValues::Float64(
-            eight("Float64")?
-                .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-                .collect(),
-        ),
-        "Int64" => ArrayValues::Int64(
-            eight("Int64")?
-                .map(|c| i64::from_le_bytes(c.try_into().expect("8 bytes")))
-                .collect(),
-        ),
+        "Float64" => ArrayValues::Float64(eight("Float64")?.map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))).collect()),
+        "Int64" => ArrayValues::Int64(eight("Int64")?.map(|c| i64::from_le_bytes(c.try_into().expect("8 bytes"))).collect()),
         "UInt8" => ArrayValues::UInt8(bytes.to_vec()),
         other => return Err(format!("type {other:?} is not one this crate writes")),
     })

@@ -9,11 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 /// Writes `grid` as a VTK UnstructuredGrid file (`.vtu`) at `path`, atomically.
-pub fn write_vtu(
-    path: &Path,
-    grid: &UnstructuredGrid,
-    encoding: Encoding,
-) -> Result<(), OutputError> {
+pub fn write_vtu(path: &Path, grid: &UnstructuredGrid, encoding: Encoding) -> Result<(), OutputError> {
     let n_points = grid.points.len();
     let cells = grid.cells;
     for index in 0..cells.len() {
@@ -36,11 +32,7 @@ pub fn write_vtu(
                 arrays: vec![
                     DataArray::int("connectivity", 1, Cow::Owned(connectivity)),
                     DataArray::int("offsets", 1, Cow::Owned(offsets)),
-                    DataArray {
-                        name: "types",
-                        components: 1,
-                        numbers: Numbers::U8(types),
-                    },
+                    DataArray { name: "types", components: 1, numbers: Numbers::U8(types) },
                 ],
             },
         ],
@@ -52,18 +44,10 @@ pub fn write_vtu(
 pub fn write_vtp(path: &Path, poly: &PolyData, encoding: Encoding) -> Result<(), OutputError> {
     let n_points = poly.points.len();
     let n_cells = poly.cell_count();
-    let (cell_tag, connectivity, offsets): (&'static str, Vec<usize>, Vec<usize>) = match poly.cells
-    {
+    let (cell_tag, connectivity, offsets): (&'static str, Vec<usize>, Vec<usize>) = match poly.cells {
         PolyCells::Vertices => ("Verts", (0..n_points).collect(), (1..=n_points).collect()),
-        PolyCells::Triangles(triangles) => (
-            "Polys",
-            triangles.as_flattened().to_vec(),
-            (1..=triangles.len()).map(|i| 3 * i).collect(),
-        ),
-        PolyCells::Polygons {
-            connectivity,
-            offsets,
-        } => ("Polys", connectivity.to_vec(), offsets.to_vec()),
+        PolyCells::Triangles(triangles) => ("Polys", triangles.as_flattened().to_vec(), (1..=triangles.len()).map(|i| 3 * i).collect()),
+        PolyCells::Polygons { connectivity, offsets } => ("Polys", connectivity.to_vec(), offsets.to_vec()),
     };
     let mut start = 0;
     for (index, &end) in offsets.iter().enumerate() {
@@ -77,22 +61,12 @@ pub fn write_vtp(path: &Path, poly: &PolyData, encoding: Encoding) -> Result<(),
                 ),
             )
         })?;
-        let cell_type = if cell_tag == "Verts" {
-            CellType::Vertex
-        } else {
-            CellType::Polygon
-        };
+        let cell_type = if cell_tag == "Verts" { CellType::Vertex } else { CellType::Polygon };
         check_cell(path, index, cell_type, ids, n_points)?;
         start = end;
     }
     if start != connectivity.len() {
-        return Err(OutputError::invalid(
-            path,
-            format!(
-                "the last polygon offset is {start} but there are {} connectivity entries",
-                connectivity.len()
-            ),
-        ));
+        return Err(OutputError::invalid(path, format!("the last polygon offset is {start} but there are {} connectivity entries", connectivity.len())));
     }
 
     let count = |tag: &str| if tag == cell_tag { n_cells } else { 0 };
@@ -112,11 +86,7 @@ pub fn write_vtp(path: &Path, poly: &PolyData, encoding: Encoding) -> Result<(),
             Section {
                 tag: cell_tag,
                 arrays: vec![
-                    DataArray::int(
-                        "connectivity",
-                        1,
-                        Cow::Owned(to_i64(path, "connectivity", &connectivity)?),
-                    ),
+                    DataArray::int("connectivity", 1, Cow::Owned(to_i64(path, "connectivity", &connectivity)?)),
                     DataArray::int("offsets", 1, Cow::Owned(to_i64(path, "offsets", &offsets)?)),
                 ],
             },
@@ -125,13 +95,7 @@ pub fn write_vtp(path: &Path, poly: &PolyData, encoding: Encoding) -> Result<(),
     write_document(path, &document, encoding)
 }
 
-fn check_cell(
-    path: &Path,
-    index: usize,
-    cell_type: CellType,
-    ids: &[usize],
-    n_points: usize,
-) -> Result<(), OutputError> {
+fn check_cell(path: &Path, index: usize, cell_type: CellType, ids: &[usize], n_points: usize) -> Result<(), OutputError> {
     if !cell_type.accepts_point_count(ids.len()) {
         return Err(OutputError::invalid(
             path,
@@ -146,23 +110,13 @@ fn check_cell(
         ));
     }
     if let Some(&bad) = ids.iter().find(|&&id| id >= n_points) {
-        return Err(OutputError::invalid(
-            path,
-            format!("cell {index} refers to point {bad}, but there are only {n_points} points"),
-        ));
+        return Err(OutputError::invalid(path, format!("cell {index} refers to point {bad}, but there are only {n_points} points")));
     }
     Ok(())
 }
 
 fn to_i64(path: &Path, what: &str, values: &[usize]) -> Result<Vec<i64>, OutputError> {
-    values
-        .iter()
-        .map(|&v| {
-            i64::try_from(v).map_err(|_| {
-                OutputError::invalid(path, format!("{what} value {v} does not fit in Int64"))
-            })
-        })
-        .collect()
+    values.iter().map(|&v| i64::try_from(v).map_err(|_| OutputError::invalid(path, format!("{what} value {v} does not fit in Int64")))).collect()
 }
 
 /// The numbers of one `DataArray`.
@@ -180,11 +134,7 @@ struct DataArray<'a> {
 
 impl<'a> DataArray<'a> {
     fn int(name: &'a str, components: usize, values: Cow<'a, [i64]>) -> Self {
-        DataArray {
-            name,
-            components,
-            numbers: Numbers::I64(values),
-        }
+        DataArray { name, components, numbers: Numbers::I64(values) }
     }
 
     fn vtk_type(&self) -> &'static str {
@@ -206,11 +156,7 @@ impl<'a> DataArray<'a> {
     fn write_ascii(&self, w: &mut impl Write) -> std::io::Result<()> {
         // One tuple per line for vectors, a few numbers per line for scalars: readable, and
         // lines stay short for text tools.
-        let per_line = if self.components > 1 {
-            self.components
-        } else {
-            8
-        };
+        let per_line = if self.components > 1 { self.components } else { 8 };
         let line = |w: &mut dyn Write, i: usize, text: String| -> std::io::Result<()> {
             #[allow(clippy::manual_is_multiple_of)] // is_multiple_of needs Rust 1.87; MSRV 1.85
             if i % per_line == 0 {
@@ -272,49 +218,23 @@ struct Document<'a> {
 fn points_section<'a>(path: &Path, points: &'a [[f64; 3]]) -> Result<Section<'a>, OutputError> {
     let flat = points.as_flattened();
     check_finite(path, "point coordinates (flattened x,y,z)", flat)?;
-    Ok(Section {
-        tag: "Points",
-        arrays: vec![DataArray {
-            name: "Points",
-            components: 3,
-            numbers: Numbers::F64(flat),
-        }],
-    })
+    Ok(Section { tag: "Points", arrays: vec![DataArray { name: "Points", components: 3, numbers: Numbers::F64(flat) }] })
 }
 
 /// Checks names, lengths and finiteness of `fields` and turns them into arrays of `tag`.
-fn field_section<'a>(
-    path: &Path,
-    tag: &'static str,
-    fields: &[Field<'a>],
-    expected_len: usize,
-) -> Result<Section<'a>, OutputError> {
-    let owner = if tag == "PointData" {
-        "points"
-    } else {
-        "cells"
-    };
+fn field_section<'a>(path: &Path, tag: &'static str, fields: &[Field<'a>], expected_len: usize) -> Result<Section<'a>, OutputError> {
+    let owner = if tag == "PointData" { "points" } else { "cells" };
     let mut names = BTreeSet::new();
     let mut arrays = Vec::with_capacity(fields.len());
     for field in fields {
         check_name(path, tag, field.name)?;
         if !names.insert(field.name) {
-            return Err(OutputError::invalid(
-                path,
-                format!(
-                    "{tag} has two fields named `{}`; names must be unique",
-                    field.name
-                ),
-            ));
+            return Err(OutputError::invalid(path, format!("{tag} has two fields named `{}`; names must be unique", field.name)));
         }
         if field.values.len() != expected_len {
             return Err(OutputError::invalid(
                 path,
-                format!(
-                    "{tag} field `{}` has {} entries but there are {expected_len} {owner}",
-                    field.name,
-                    field.values.len()
-                ),
+                format!("{tag} field `{}` has {} entries but there are {expected_len} {owner}", field.name, field.values.len()),
             ));
         }
         let (components, numbers) = match field.values {
@@ -324,30 +244,19 @@ fn field_section<'a>(
             }
             FieldValues::Vector(v) => {
                 let flat = v.as_flattened();
-                check_finite(
-                    path,
-                    &format!("{} (flattened components)", field.name),
-                    flat,
-                )?;
+                check_finite(path, &format!("{} (flattened components)", field.name), flat)?;
                 (3, Numbers::F64(flat))
             }
             FieldValues::Int(v) => (1, Numbers::I64(Cow::Borrowed(v))),
         };
-        arrays.push(DataArray {
-            name: field.name,
-            components,
-            numbers,
-        });
+        arrays.push(DataArray { name: field.name, components, numbers });
     }
     Ok(Section { tag, arrays })
 }
 
 fn check_name(path: &Path, tag: &str, name: &str) -> Result<(), OutputError> {
     if name.trim().is_empty() || name.chars().any(char::is_control) {
-        return Err(OutputError::invalid(
-            path,
-            format!("{tag} field name {name:?} must be non-empty and free of control characters"),
-        ));
+        return Err(OutputError::invalid(path, format!("{tag} field name {name:?} must be non-empty and free of control characters")));
     }
     Ok(())
 }
@@ -372,16 +281,10 @@ pub(crate) fn xml_escape(text: &str) -> Cow<'_, str> {
 }
 
 fn write_document(path: &Path, document: &Document, encoding: Encoding) -> Result<(), OutputError> {
-    write_atomically(path, |w| {
-        write_document_to(w, document, encoding).map_err(|e| OutputError::io(path, e))
-    })
+    write_atomically(path, |w| write_document_to(w, document, encoding).map_err(|e| OutputError::io(path, e)))
 }
 
-fn write_document_to(
-    w: &mut impl Write,
-    document: &Document,
-    encoding: Encoding,
-) -> std::io::Result<()> {
+fn write_document_to(w: &mut impl Write, document: &Document, encoding: Encoding) -> std::io::Result<()> {
     let dataset = document.dataset;
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(
@@ -399,13 +302,7 @@ fn write_document_to(
     for section in &document.sections {
         writeln!(w, "      <{}>", section.tag)?;
         for array in &section.arrays {
-            write!(
-                w,
-                "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"",
-                array.vtk_type(),
-                xml_escape(array.name),
-                array.components
-            )?;
+            write!(w, "        <DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"", array.vtk_type(), xml_escape(array.name), array.components)?;
             match encoding {
                 Encoding::Ascii => {
                     write!(w, " format=\"ascii\">")?;
