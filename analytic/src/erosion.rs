@@ -1,8 +1,5 @@
 //! Erosion of a ductile wall by one particle impact.
 //!
-//! Longer than ~600 lines because it holds the Arabnejad law with every erratum switch of
-//! wear-model.md §13 beside the alternative laws and checks A1–A16 they are compared by.
-//!
 //! wear-model.md §5 (rebound, Eq. 4.4), §6 (Arabnejad et al. 2015b cutting + deformation,
 //! Eqs. 2.35–2.39 with the spec's canonical form and its switches), §6.8 (alternative laws) and
 //! §15 (checks A1–A16). Angles θ are measured from the wall *surface* (0 = grazing,

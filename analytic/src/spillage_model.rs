@@ -1,8 +1,5 @@
 //! The Euler-turbine analytical spillage model of Nieuwboer (2022) §4.4.
 //!
-//! Longer than ~600 lines because the model is one chain of equations (4.55–4.92) whose
-//! intermediate quantities the tests check one by one; it reads best in equation order.
-//!
 //! spillage-and-flow-verification.md §2 (thesis Eqs. 4.55–4.92). The head is split axially into a
 //! top segment 1 (height w₁, from the ring; outflow Q₁) and a bottom segment 2 (height H − w₁, to
 //! the hub; inflow Q₂ = Q₁ + Q_m). Blade pressure rise ΔP_bl,i = (1−α) ρ_i ω² R̄_i² (Eq. 4.70),

@@ -116,3 +116,5 @@ pub fn ladder(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
     found.sort();
     Ok(found)
 }
+
+pub mod dem_rig;
