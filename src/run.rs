@@ -35,6 +35,9 @@ pub struct RunOptions {
 /// fast DEM does not exist yet).
 pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
     let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
+    if let Some(restart) = &state {
+        spillage_model::step::check_restart_state(case, restart).map_err(located)?;
+    }
     let mut state = state.unwrap_or_default();
     let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, &case.mesh) {
         (Some(_), Some(section)) => {

@@ -1,6 +1,6 @@
 //! Checkpoints: a [`State`] written to disk and read back bit-for-bit.
 //!
-//! Layout: a text header line (`spillage-checkpoint 1 <case name>\n`), the state in postcard
+//! Layout: a text header line (`spillage-checkpoint 2 <case name>\n`, 2 the format version), the state in postcard
 //! (f64 stored as their 8 bytes, so nothing is rounded), and an FNV-1a 64-bit checksum of the
 //! payload, so a truncated or damaged file is refused instead of silently resuming from garbage.
 //! Writes go to a temporary file in the same folder that is renamed over the target, so a crash

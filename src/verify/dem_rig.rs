@@ -53,7 +53,7 @@ impl DemRig {
         let (_, dem, state) = self.run.parts_mut();
         let dem = dem.expect("a particle run");
         let (particles, walls) = (state.particles.as_mut().expect("a particle run"), state.walls.as_mut().expect("a particle run"));
-        dem.substep(particles, walls, t, dt, rotor_end.as_ref(), &|_, p| fluid(p));
+        dem.substep(particles, walls, dt, t + dt, rotor_end.as_ref(), &|_, p| fluid(p));
     }
 }
 

@@ -14,6 +14,7 @@ use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::fluid::conditions::Conditions;
 use spillage_model::fluid::initial::initial_fluid_state;
+use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Overlap, PatchKind, Vec3};
@@ -223,8 +224,12 @@ impl FastFluid {
 
     /// Stage 1: turns the rotor zone to the pose's angle (from its reference geometry), takes
     /// the pose's motion and moves the zone's faces and boundary faces in place.
+    /// Nothing to do when the zone is at `pose` already (the driver places it before sampling).
     fn turn_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
         if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
+            if r.pose == *pose {
+                return Ok(());
+            }
             r.place(&mut self.mesh, pose).map_err(unsupported)?;
             for &f in &self.moving_faces {
                 self.links.update_face(&self.mesh, f, self.rotor.as_ref(), &self.in_rotor);
@@ -405,7 +410,9 @@ impl FluidPhase for FastFluid {
     }
 
     fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
-        spillage_model::fluid::sampling::sample_containing_cell(&self.mesh, fluid, self.density, self.nu, self.dt_old, particles, out);
+        let source =
+            FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old };
+        sample_containing_cell(&source, particles, out);
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every link.

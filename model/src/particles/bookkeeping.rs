@@ -32,17 +32,17 @@ pub struct ExitRecord {
     pub route: ExitRoute,
 }
 
-/// Creates the particles owed by each feed for a step of `dt` from `time`: rate × dt accumulates
-/// as a debt and whole particles are placed, never overlapping others, at random in the feed's
+/// Creates the particles owed by each feed for a step of `dt` from `time`: the rate times the
+/// part of [time, time + dt] inside the feed's [start, end) accumulates as a debt and whole particles are placed, never overlapping others, at random in the feed's
 /// region; a particle that cannot be placed now stays owed. Returns how many were created.
 pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt: f64) -> u64 {
     let mut created = 0;
     for (f, feed) in section.feed.iter().enumerate() {
-        let active = time >= feed.start && feed.end.is_none_or(|end| time < end);
-        if !active {
+        let active = (time + dt).min(feed.end.unwrap_or(f64::INFINITY)) - time.max(feed.start);
+        if active <= 0.0 {
             continue;
         }
-        state.feed_debt[f] += feed.rate * dt;
+        state.feed_debt[f] += feed.rate * active;
         let material = section.material_index(&feed.material).expect("validated feed material");
         while state.feed_debt[f] >= 1.0 {
             let d = match feed.diameter {
@@ -62,19 +62,45 @@ pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt
     created
 }
 
-/// Removes the particles for which `route` names an exit, logs them with `time`, and drops
-/// their contact history. Particle order (by id) is kept. Returns how many left.
-pub fn remove_exited(state: &mut ParticleState, time: f64, route: impl Fn(&super::Particle) -> Option<ExitRoute>) -> u64 {
+/// Removes the particles for which `route` names an exit, logs them with `time`, drops their
+/// contact history and their entries of `load` (which is per particle, in particle order).
+/// Particle order (by id) is kept. Returns how many left.
+pub fn remove_exited(
+    state: &mut ParticleState,
+    load: Option<&mut crate::step::ParticleLoad>,
+    time: f64,
+    route: impl Fn(&super::Particle) -> Option<ExitRoute>,
+) -> u64 {
     let mut gone = Vec::new();
     let mut exits = Vec::new();
-    state.particles.retain(|p| match route(p) {
-        Some(route) => {
-            gone.push(p.id);
-            exits.push(ExitRecord { particle: p.id, time, position: p.position.into(), velocity: p.velocity.into(), diameter: p.diameter, route });
-            false
-        }
-        None => true,
-    });
+    let keep: Vec<bool> = state
+        .particles
+        .iter()
+        .map(|p| match route(p) {
+            Some(route) => {
+                gone.push(p.id);
+                exits.push(ExitRecord { particle: p.id, time, position: p.position.into(), velocity: p.velocity.into(), diameter: p.diameter, route });
+                false
+            }
+            None => true,
+        })
+        .collect();
+    if gone.is_empty() {
+        return 0;
+    }
+    fn retain<T>(values: &mut Vec<T>, keep: &[bool]) {
+        let mut index = 0;
+        values.retain(|_| {
+            index += 1;
+            keep[index - 1]
+        });
+    }
+    retain(&mut state.particles, &keep);
+    if let Some(load) = load {
+        retain(&mut load.volume, &keep);
+        retain(&mut load.implicit_drag, &keep);
+        retain(&mut load.explicit_force, &keep);
+    }
     if !gone.is_empty() {
         state.contacts.retain(|r| !gone.contains(&r.particle) && !matches!(r.partner, Partner::Particle(j) if gone.contains(&j)));
     }
@@ -121,7 +147,9 @@ mod tests {
             ..Default::default()
         };
         state.counts.created = 3;
-        let n = remove_exited(&mut state, 1.5, |p| (p.position.x > 1.0).then_some(ExitRoute::Domain));
+        let mut load =
+            crate::step::ParticleLoad { volume: vec![1.0, 2.0, 3.0], implicit_drag: vec![0.1, 0.2, 0.3], explicit_force: vec![[0.0; 3], [1.0; 3], [2.0; 3]] };
+        let n = remove_exited(&mut state, Some(&mut load), 1.5, |p| (p.position.x > 1.0).then_some(ExitRoute::Domain));
         assert_eq!(n, 1);
         assert_eq!(state.particles.iter().map(|p| p.id).collect::<Vec<_>>(), vec![0, 2]);
         assert_eq!(state.contacts.len(), 1);
@@ -129,5 +157,46 @@ mod tests {
         assert_eq!(state.exits[0].particle, 1);
         assert_eq!(state.exits[0].time, 1.5);
         assert_eq!(state.counts.created, state.particles.len() as u64 + state.exits.len() as u64);
+        // the load follows its particles
+        assert_eq!(load.volume, vec![1.0, 3.0]);
+        assert_eq!(load.implicit_drag, vec![0.1, 0.3]);
+        assert_eq!(load.explicit_force, vec![[0.0; 3], [2.0; 3]]);
+    }
+
+    /// A feed switched on or off inside a step owes only the part of the step it was on.
+    #[test]
+    fn a_feed_owes_the_part_of_the_step_it_is_on() {
+        use crate::particles::settings::{BoxRegion, FeedSection};
+        let text = r#"
+[case]
+name = "feed"
+[time]
+dt = 0.125
+steps = 1
+[particles]
+[[particles.materials]]
+name = "rock"
+density = 2650.0
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.5
+[[particles.feed]]
+material = "rock"
+diameter = 0.01
+region = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }
+rate = 100.0
+start = 0.0625
+end = 0.3125
+"#;
+        let case = crate::case::Case::from_toml(text, std::path::Path::new("feed.toml")).unwrap();
+        let section = case.particles.clone().unwrap();
+        let _: (&BoxRegion, &FeedSection) = (&section.feed[0].region, &section.feed[0]);
+        let mut state = crate::particles::initial_state(&case).unwrap();
+        // (binary-exact times) [0, 0.125): on for 0.0625 s → 6.25 owed, 6 placed; [0.125, 0.25):
+        // 12.5 + 0.25 → 12; [0.25, 0.375): 6.25 + 0.75 → 7; [0.375, 0.5): off. 25 = rate × 0.25 s.
+        let created: Vec<u64> = [0.0, 0.125, 0.25, 0.375].iter().map(|&t| feed(&section, &mut state, t, 0.125)).collect();
+        assert_eq!(created, vec![6, 12, 7, 0]);
+        assert_eq!(state.counts.created, 25);
     }
 }

@@ -56,10 +56,20 @@ impl StepContext {
 mod tests {
     use super::*;
 
+    /// The context turns the rotor by ω Δt, takes Euler on the first step and BDF2 with the
+    /// step ratio afterwards.
     #[test]
-    fn rotor_after_the_whole_step_is_the_end_pose() {
+    fn the_context_turns_the_rotor_and_picks_the_time_scheme() {
         let pose = RotorPose { axis: crate::mesh::Vec3::z(), origin: Default::default(), omega: 0.7, angle: 0.1 };
-        let ctx = StepContext::new(3, 1.0, 0.3, 0.3, TimeScheme::Backward, Some(pose));
-        assert_eq!(ctx.rotor_after(ctx.dt), ctx.rotor);
+        let first = StepContext::new(1, 0.0, 0.3, 0.0, TimeScheme::Backward, Some(pose));
+        assert_eq!(first.time_coefficients, [1.0, -1.0, 0.0]);
+        assert_eq!(first.rotor.unwrap().angle, 0.1 + 0.7 * 0.3);
+        assert_eq!(first.rotor_start.unwrap().angle, 0.1);
+        let later = StepContext::new(3, 1.0, 0.2, 0.1, TimeScheme::Backward, Some(pose));
+        // r = 2: c₀ = 5/3, c₁ = −3, c₂ = 4/3
+        let [c0, c1, c2] = later.time_coefficients;
+        assert!((c0 - 5.0 / 3.0).abs() < 1e-15 && (c1 + 3.0).abs() < 1e-15 && (c2 - 4.0 / 3.0).abs() < 1e-15);
+        assert_eq!(later.time_end(), 1.2);
+        assert!(StepContext::new(2, 0.0, 0.1, 0.1, TimeScheme::Backward, None).rotor.is_none());
     }
 }

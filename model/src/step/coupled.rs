@@ -2,13 +2,20 @@
 //! Algorithm 1, read top to bottom:
 //!
 //! 1. clock: Δt (fixed, or from the Courant number, [`super::time_step`]), the time
-//!    coefficients and the rotor pose at tⁿ and tⁿ⁺¹ ([`StepContext`]);
+//!    coefficients and the rotor pose at tⁿ and tⁿ⁺¹ ([`StepContext`]); the fluid mesh's rotor
+//!    zone is turned to tⁿ⁺¹ first, because particles are located in the new mesh position
+//!    (spec §8.7 [R]);
 //! 2. feed: particles owed by the feeds are placed ([`bookkeeping::feed`]);
 //! 3. sample: the fluid each particle sees, held for the whole step (§5.10);
 //! 4. DEM sub-steps: particles and walls to tⁿ⁺¹ ([`ParticlePhase::advance`]);
-//! 5. exits: particles that left the domain or the mesh are removed and logged;
+//! 5. exits: particles that left the domain or the mesh are removed and logged (with their
+//!    entries of the particle load);
 //! 6. PIMPLE with the particle load ([`FluidPhase::advance`]; one-way coupling passes none);
 //! 7. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
+//!
+//! A step that returns an error leaves the run unusable (the particles may already have moved
+//! while the fluid and the clock have not): the caller stops and reports, as `spillage run`
+//! does, keeping what was written before.
 //!
 //! Fluid-only and particle-only runs are the same driver with one phase [`Absent`]. Because the
 //! driver is generic, any fluid phase pairs with any particle phase (tests run the reference
@@ -97,11 +104,16 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             .filter(|a| a.forces && fluid.is_none())
             .map(|a| FluidAtParticle::still(a.density, a.kinematic_viscosity));
         if let (Some(section), Some(p)) = (&particle_section, &state.particles) {
-            if p.feed_debt.len() != section.feed.len() {
+            if p.feed_debt.len() != section.feed.len() || p.feed_random.len() != section.feed.len() {
                 return Err(unsupported(format!("the state has {} feeds, the case {}", p.feed_debt.len(), section.feed.len())));
             }
         }
         let label = match (&fluid, &particles) {
+            (Some(f), Some(p)) if f.name() != p.name() => match (f.name(), p.name()) {
+                ("fast", "reference") => "fast fluid + reference particles",
+                ("reference", "fast") => "reference fluid + fast particles",
+                _ => "mixed",
+            },
             (Some(f), _) => f.name(),
             (None, Some(p)) => p.name(),
             (None, None) => unreachable!("checked above"),
@@ -153,6 +165,12 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         // 1. clock and rotor pose
         let ctx = StepContext::new(self.state.step + 1, self.state.time, dt, self.state.dt, self.scheme, self.rotor());
         let diverged = |what: String| SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what };
+        if ctx.time_end() <= ctx.time {
+            return Err(diverged(format!("the time step {dt:e} s no longer advances the clock from t = {} s", ctx.time)));
+        }
+        if let Some(fluid) = self.fluid.as_mut() {
+            fluid.place_rotor(ctx.rotor.as_ref())?;
+        }
 
         // 2–5. particles: feed, sample, DEM sub-steps, exits
         let mut load: Option<ParticleLoad> = None;
@@ -167,12 +185,21 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             let walls = self.state.walls.as_mut().expect("checked in new");
             load = phase.advance(&ctx, particles, walls, &self.samples, report)?;
+            if let Some(l) = &load {
+                if [l.volume.len(), l.implicit_drag.len(), l.explicit_force.len()].iter().any(|&n| n != particles.particles.len()) {
+                    return Err(unsupported(format!(
+                        "the particle phase returned a load for {} particles, but there are {}",
+                        l.volume.len(),
+                        particles.particles.len()
+                    )));
+                }
+            }
             if let Some(p) = particles.particles.iter().find(|p| !(p.position.iter().chain(p.velocity.iter()).all(|v| v.is_finite()))) {
                 return Err(diverged(format!("particle {} has a non-finite position or velocity", p.id)));
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
             let domain = section.domain.clone();
-            bookkeeping::remove_exited(particles, ctx.time_end(), |p| exit_route(domain.as_ref(), mesh, &p.position));
+            bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| exit_route(domain.as_ref(), mesh, &p.position));
             report.values.push(("particles", particles.particles.len() as f64));
             report.values.push(("escaped", particles.counts.escaped as f64));
             report.values.push(("impacts", particles.impacts.len() as f64));
@@ -182,6 +209,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         if let Some(phase) = self.fluid.as_mut() {
             let fluid = self.state.fluid.as_mut().expect("checked in new");
             let outcome = phase.advance(&ctx, fluid, load.as_ref(), report)?;
+            if !outcome.courant_max.is_finite() {
+                return Err(diverged(format!("Courant number {}", outcome.courant_max)));
+            }
             self.state.courant = outcome.courant_max;
         }
 
@@ -211,8 +241,28 @@ impl<P: ParticlePhase> Coupled<Absent, P> {
     }
 }
 
+/// Refuses a restart state whose phases do not match the case: a particle-only checkpoint for
+/// a case with a fluid (or the reverse) would otherwise be filled up by the phases'
+/// constructors and silently restart the missing phase from its initial state.
+pub fn check_restart_state(case: &Case, state: &State) -> Result<(), SolverError> {
+    let has = |b: bool| if b { "has" } else { "has no" };
+    if case.fluid.is_some() != state.fluid.is_some() || case.particles.is_some() != state.particles.is_some() {
+        return Err(unsupported(format!(
+            "the checkpoint {} fluid and {} particles, but the case {} [fluid] and {} [particles] (a checkpoint of another case?)",
+            has(state.fluid.is_some()),
+            has(state.particles.is_some()),
+            has(case.fluid.is_some()),
+            has(case.particles.is_some())
+        )));
+    }
+    Ok(())
+}
+
 /// Where a particle at `position` has left to, if anywhere: outside `[particles] domain`, or
-/// outside the fluid mesh (through the patch of the nearest boundary face).
+/// outside the fluid mesh (through the patch of the nearest boundary face). A point outside
+/// every cell whose nearest boundary face is on a sliding interface is in the sliver between
+/// the rotor's and the stator's polygonal rings (up to r(1 − cos π/n_θ) wide), inside the
+/// domain: not an exit.
 fn exit_route(domain: Option<&crate::particles::settings::BoxRegion>, mesh: Option<&Mesh>, position: &Vec3) -> Option<ExitRoute> {
     if let Some(d) = domain {
         if !d.contains([position.x, position.y, position.z]) {
@@ -225,8 +275,11 @@ fn exit_route(domain: Option<&crate::particles::settings::BoxRegion>, mesh: Opti
     }
     let nearest = (mesh.n_internal_faces..mesh.n_faces())
         .min_by(|&a, &b| (mesh.face_centres[a] - position).norm_squared().total_cmp(&(mesh.face_centres[b] - position).norm_squared()))?;
-    let patch = mesh.patches.iter().find(|p| p.faces().contains(&nearest)).map_or_else(|| "boundary".to_string(), |p| p.name.clone());
-    Some(ExitRoute::Patch(patch))
+    let patch = mesh.patches.iter().find(|p| p.faces().contains(&nearest))?;
+    if matches!(patch.kind, crate::mesh::PatchKind::Interface { .. }) {
+        return None;
+    }
+    Some(ExitRoute::Patch(patch.name.clone()))
 }
 
 impl<F: FluidPhase, P: ParticlePhase> Solver for Coupled<F, P> {

@@ -6,7 +6,9 @@
 //! Courant number Coⁿ of the last step, f = Co_max/Coⁿ, Δt ← min(min(f, 1 + 0.1 f), 1.2) Δtⁿ,
 //! so the step shrinks at once when the flow speeds up and grows by at most 20 % per step
 //! (variable-step BDF2 stays second order and stable for such ratios). It is capped by
-//! `max_dt` and never steps past `end_time`. The first step takes
+//! `max_dt` and, with `end_time`, lands on it exactly: when less than 1.5 steps remain, the
+//! remainder is taken in one step (≤ Δt) or two equal ones, so no sliver of a step is left.
+//! The first step takes
 //! min(Co_max / (Co per second of the start state), `max_dt`).
 
 use crate::case::Case;
@@ -46,6 +48,9 @@ impl TimeStepControl {
             TimeStepControl::Courant { max_courant, max_dt, end_time } => {
                 let dt = if state.step == 0 || state.dt <= 0.0 {
                     let rate = courant_rate();
+                    if !rate.is_finite() {
+                        return Err(SolverError::Diverged { step: 0, time: state.time, what: format!("the Courant number of the start state is {rate}") });
+                    }
                     let dt = if rate > 0.0 { (max_courant / rate).min(max_dt) } else { max_dt };
                     if !dt.is_finite() {
                         return Err(SolverError::Unsupported(
@@ -53,14 +58,16 @@ impl TimeStepControl {
                         ));
                     }
                     dt
+                } else if !state.courant.is_finite() {
+                    return Err(SolverError::Diverged { step: state.step, time: state.time, what: format!("Courant number {}", state.courant) });
                 } else {
                     adapted_dt(state.dt, state.courant, max_courant).min(max_dt)
                 };
                 (dt, end_time)
             }
         };
-        // land on end_time exactly rather than overshoot it (a step within half a step of the end
-        // time is the last one, as the run loop counts it)
+        // land on end_time exactly rather than overshoot it or leave a sliver (module doc); the
+        // run loop ends within 1e-12 relative of end_time
         Ok(match end_time {
             Some(end) if matches!(self, TimeStepControl::Courant { .. }) && end - state.time < 1.5 * dt && end > state.time => {
                 let remaining = end - state.time;
@@ -100,10 +107,22 @@ mod tests {
         let control = TimeStepControl::Courant { max_courant: 0.5, max_dt: 0.1, end_time: Some(1.0) };
         let state = State { time: 0.95, step: 3, dt: 0.1, courant: 0.5, ..State::default() };
         assert_eq!(control.next_dt(&state, || 0.0).unwrap(), 1.0 - 0.95);
-        // 1.3 steps left: two steps of 0.65 rather than one full and a sliver
+        // 1.3 steps left (0.13 s): two steps of 0.065 s rather than one full and a sliver
         let state = State { time: 0.87, step: 3, dt: 0.1, courant: 0.5, ..State::default() };
         let dt = control.next_dt(&state, || 0.0).unwrap();
         assert!((dt - 0.5 * (1.0 - 0.87)).abs() < 1e-15);
+        // and the second of the two lands on the end time
+        let state = State { time: 0.87 + dt, step: 4, dt, courant: 0.5, ..State::default() };
+        let last = control.next_dt(&state, || 0.0).unwrap();
+        assert!((state.time + last - 1.0).abs() < 1e-15, "{}", state.time + last);
+    }
+
+    #[test]
+    fn a_non_finite_courant_number_is_an_error() {
+        let control = TimeStepControl::Courant { max_courant: 0.5, max_dt: 0.1, end_time: Some(1.0) };
+        let state = State { time: 0.5, step: 3, dt: 0.1, courant: f64::NAN, ..State::default() };
+        assert!(control.next_dt(&state, || 0.0).is_err());
+        assert!(control.next_dt(&State::default(), || f64::NAN).is_err());
     }
 
     #[test]

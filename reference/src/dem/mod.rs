@@ -142,12 +142,20 @@ impl ReferenceDem {
         }
     }
 
-    /// One DEM sub-step from time `t` (velocity Verlet, §5.10): half-kick with the stored contact
-    /// force and torque, half the fluid-force update, move (walls to their pose at t + dt, the
-    /// rotor walls at `rotor_end`), new contact forces, the other half of the fluid update,
+    /// One DEM sub-step of `dt` ending at `end_time` (velocity Verlet, §5.10): half-kick with the
+    /// stored contact force and torque, half the fluid-force update, move (walls to their pose at
+    /// `end_time`, the rotor walls at `rotor_end`), new contact forces, the other half of the fluid update,
     /// second half-kick. The fluid update is split symmetrically so the step stays second
     /// order and symplectic for conservative forces (gravity).
-    pub fn substep(&mut self, particles: &mut ParticleState, walls: &mut WallState, t: f64, dt: f64, rotor_end: Option<&RotorPose>, fluid: FluidSampler<'_>) {
+    pub fn substep(
+        &mut self,
+        particles: &mut ParticleState,
+        walls: &mut WallState,
+        dt: f64,
+        end_time: f64,
+        rotor_end: Option<&RotorPose>,
+        fluid: FluidSampler<'_>,
+    ) {
         let gravity = self.gravity;
         let law = self.drag_law;
         for (i, p) in particles.particles.iter_mut().enumerate() {
@@ -157,8 +165,8 @@ impl ReferenceDem {
             p.velocity = fluid_force_update(law, p.velocity, p.diameter, p.density, f.as_ref(), gravity, 0.5 * dt);
             p.position += dt * p.velocity;
         }
-        walls.place(t + dt, rotor_end);
-        self.evaluate_contacts(particles, walls, t + dt, dt);
+        walls.place(end_time, rotor_end);
+        self.evaluate_contacts(particles, walls, end_time, dt);
         for (i, p) in particles.particles.iter_mut().enumerate() {
             let f = fluid(i, p);
             p.velocity = fluid_force_update(law, p.velocity, p.diameter, p.density, f.as_ref(), gravity, 0.5 * dt);
@@ -194,11 +202,16 @@ impl ParticlePhase for ReferenceDem {
         self.load_history(particles);
         let n = self.substeps_for(ctx.dt, &particles.particles, walls);
         let dt_s = ctx.dt / n as f64;
-        let sampler = |i: usize, _: &Particle| fluid.get(i).copied().flatten();
+        if fluid.len() != particles.particles.len() {
+            return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
+        }
+        let sampler = |i: usize, _: &Particle| fluid[i];
         for k in 0..n {
             let elapsed = (k + 1) as f64 * dt_s;
-            let rotor_end = if k + 1 == n { ctx.rotor } else { ctx.rotor_after(elapsed) };
-            self.substep(particles, walls, ctx.time + k as f64 * dt_s, dt_s, rotor_end.as_ref(), &sampler);
+            // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose), so
+            // the walls are where a restart from tⁿ⁺¹ places them
+            let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
+            self.substep(particles, walls, dt_s, end_time, rotor_end.as_ref(), &sampler);
         }
         self.store_history(particles);
         let max_overlap_ratio = self.samples.iter().map(|s| s.overlap / s.radius).fold(0.0, f64::max);

@@ -3,6 +3,7 @@
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::fluid::initial::initial_fluid_state;
+use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
@@ -302,7 +303,10 @@ impl FluidPhase for ReferenceFluid {
     /// accumulates) and takes the pose's motion for the mesh fluxes and wall velocities.
     fn place_rotor(&mut self, pose: Option<&RotorPose>) -> Result<(), SolverError> {
         if let (Some(r), Some(pose)) = (self.rotor.as_mut(), pose) {
-            r.place(&mut self.mesh, pose).map_err(SolverError::Unsupported)?;
+            // (the driver places the zone before sampling; the fluid step asks again)
+            if r.pose != *pose {
+                r.place(&mut self.mesh, pose).map_err(SolverError::Unsupported)?;
+            }
         }
         Ok(())
     }
@@ -321,7 +325,9 @@ impl FluidPhase for ReferenceFluid {
     }
 
     fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
-        spillage_model::fluid::sampling::sample_containing_cell(&self.mesh, fluid, self.density, self.nu, self.dt_old, particles, out);
+        let source =
+            FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old };
+        sample_containing_cell(&source, particles, out);
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every
