@@ -165,6 +165,28 @@ fn adaptive_step_matches_the_fixed_step_at_the_same_courant_number() {
     assert!((adaptive_error - fixed_error).abs() <= 0.1 * fixed_error, "adaptive error {adaptive_error:.4e} vs fixed {fixed_error:.4e}");
 }
 
+/// The same for the circular Couette flow through the sliding interface (the rotor turning with
+/// the inner wall, couette_sliding.toml at its coarse 32 × 8 level). Its Courant number falls
+/// as the fluid spins up with the mesh (the relative flux shrinks), so the target is the fixed
+/// run's steady (last-step) Courant number: the adaptive run then ends with the fixed Δt and
+/// takes smaller steps through the start-up. Its u_θ error against the exact profile must be
+/// no worse than the fixed run's (+10 %; the error is mostly the O(h²) spatial error of this
+/// level).
+#[test]
+fn adaptive_step_on_the_sliding_couette_case_matches_the_fixed_step() {
+    let fixed = load("cases/verification/fluid/couette_sliding.toml");
+    let (fixed_error, fixed_max, fixed_final, fixed_steps) = spillage::verify::fluid::couette_u_theta_error(&fixed).unwrap();
+    let mut adaptive = fixed.clone();
+    adaptive.time.dt = None;
+    adaptive.time.max_courant = Some(fixed_final);
+    let (adaptive_error, adaptive_max, adaptive_final, adaptive_steps) = spillage::verify::fluid::couette_u_theta_error(&adaptive).unwrap();
+    eprintln!(
+        "sliding Couette: fixed u_θ rms error {fixed_error:.4e} (Co max {fixed_max:.4}, last {fixed_final:.4}, {fixed_steps} steps), adaptive {adaptive_error:.4e} (Co max {adaptive_max:.4}, last {adaptive_final:.4}, {adaptive_steps} steps)"
+    );
+    assert!(adaptive_max <= fixed_final * 1.05, "adaptive run exceeded its Courant target: {adaptive_max} > {fixed_final}");
+    assert!(adaptive_error <= 1.1 * fixed_error, "adaptive error {adaptive_error:.4e} vs fixed {fixed_error:.4e}");
+}
+
 /// Variable-step BDF2 keeps second order in time: steps alternate by ±30 % (ratio 1.3 and
 /// 1/1.3, mean step h), h halves twice, and the kinetic energy at t = 1 converges to the run
 /// with uniform h/8 steps on the same mesh (so the spatial error cancels) at order ≥ 1.8.

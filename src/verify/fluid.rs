@@ -45,6 +45,9 @@ pub fn build_mesh(case: &Case) -> Result<Mesh> {
 struct RunSummary {
     max_interface_imbalance: f64,
     max_continuity_local: f64,
+    max_courant: f64,
+    /// Courant number of the last step.
+    final_courant: f64,
     steps: u64,
     /// Steps that used all `max_outer_iterations` with the initial pressure residual still
     /// above `p_initial_residual` (their result is not the solution of the discrete equations).
@@ -59,14 +62,28 @@ fn run(case: &Case) -> Result<(FluidOnly<ReferenceFluid>, RunSummary)> {
     let mut state = State::default();
     let fluid = ReferenceFluid::new(case, mesh, &mut state)?;
     let mut solver = Coupled::new(case, state, Some(fluid), None)?;
-    let dt = case.time.dt.ok_or_else(|| anyhow!("the check needs a fixed [time] dt"))?;
-    let steps = match (case.time.steps, case.time.end_time) {
-        (Some(n), _) => n,
-        (None, Some(t)) => (t / dt - 1e-9).ceil() as u64,
-        (None, None) => bail!("the case has neither time.steps nor time.end_time"),
+    // a fixed step runs a known number of steps; `max_courant` runs until the driver lands on
+    // end_time (src/run.rs, the same rule)
+    let (steps, end_time) = match (case.time.dt, case.time.steps, case.time.end_time) {
+        (_, Some(n), _) => (n, None),
+        (Some(dt), None, Some(t)) => ((t / dt - 1e-9).ceil() as u64, None),
+        (None, None, Some(t)) => (u64::MAX, Some(t)),
+        (_, None, None) => bail!("the case has neither time.steps nor time.end_time"),
     };
-    let mut summary = RunSummary { max_interface_imbalance: 0.0, max_continuity_local: 0.0, steps, unconverged_steps: 0, last_residual: f64::NAN };
+    let mut summary = RunSummary {
+        max_interface_imbalance: 0.0,
+        max_continuity_local: 0.0,
+        max_courant: 0.0,
+        final_courant: 0.0,
+        steps: 0,
+        unconverged_steps: 0,
+        last_residual: f64::NAN,
+    };
     for _ in 0..steps {
+        if end_time.is_some_and(|end| solver.state().time >= end - 1e-12 * end) {
+            break;
+        }
+        summary.steps += 1;
         let report = solver.step().with_context(|| format!("case {}", case.case.name))?;
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
@@ -79,6 +96,10 @@ fn run(case: &Case) -> Result<(FluidOnly<ReferenceFluid>, RunSummary)> {
             match name {
                 "interface_imbalance" => summary.max_interface_imbalance = summary.max_interface_imbalance.max(value),
                 "continuity_local" => summary.max_continuity_local = summary.max_continuity_local.max(value),
+                "courant_max" => {
+                    summary.max_courant = summary.max_courant.max(value);
+                    summary.final_courant = value;
+                }
                 _ => {}
             }
         }
@@ -210,6 +231,14 @@ struct CouetteErrors {
     /// different θ meet (issue 12).
     ur_interface_max: Option<f64>,
     run: RunSummary,
+}
+
+/// The rms error of u_θ against circular Couette flow at the end of `case` (a Couette
+/// verification case, fixed Δt or `max_courant`), the largest Courant number of the run, that
+/// of its last step and its step count: for checks of the time stepping on this flow.
+pub fn couette_u_theta_error(case: &Case) -> Result<(f64, f64, f64, u64)> {
+    let e = couette_errors(case)?;
+    Ok((e.u_rms, e.run.max_courant, e.run.final_courant, e.run.steps))
 }
 
 fn couette_errors(case: &Case) -> Result<CouetteErrors> {
