@@ -79,6 +79,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let restart_time = restart.as_ref().map(|s| s.time);
+    let restart_step = restart.as_ref().map(|s| s.step);
     let mut solver = build_solver(&case, opts.solver, restart)?;
     if case.wear.is_some() {
         eprintln!("note: wall wear is not modelled yet; [wear] is validated but has no effect on this run");
@@ -94,7 +95,8 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
 
     let started = Instant::now();
     let progress = progress_bar(&case, solver.state());
-    let mut run = Running { case: &case, out: &out, frames: Frames::new(&out, restart_time)?, series: None, restart_time, steps: 0, step_seconds: 0.0 };
+    let mut run =
+        Running { case: &case, out: &out, frames: Frames::new(&out, restart_time)?, series: None, restart_time, restart_step, steps: 0, step_seconds: 0.0 };
     let result = run.time_loop(solver.as_mut(), &progress);
     progress.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
@@ -148,6 +150,8 @@ struct Running<'a> {
     /// step once the first row is written).
     series: Option<(SeriesWriter, StepReport, Vec<f64>)>,
     restart_time: Option<f64>,
+    /// Step of the restart state: series rows after it are dropped and computed again.
+    restart_step: Option<u64>,
     steps: u64,
     step_seconds: f64,
 }
@@ -211,8 +215,9 @@ impl Running<'_> {
             let mut columns = vec!["step", "time", "dt"];
             columns.extend(report.values.iter().map(|(n, _)| *n).filter(|n| !SERIES_CLOCK.contains(n)));
             let path = self.out.join("series.csv");
-            let writer = match self.restart_time {
-                Some(t) if path.exists() => SeriesWriter::resume(&path, &columns, Some(t))?,
+            // the series' first column is the step: rows after the restart step are recomputed
+            let writer = match self.restart_step {
+                Some(step) if path.exists() => SeriesWriter::resume(&path, &columns, Some(step as f64))?,
                 _ => SeriesWriter::create(&path, &columns)?,
             };
             self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));

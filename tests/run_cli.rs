@@ -157,6 +157,25 @@ fn a_restarted_fluid_run_continues_bit_for_bit_with_either_solver() {
     }
 }
 
+/// Restarting into the results folder of the interrupted run keeps its series up to the restart
+/// step and continues it: one row per step, steps 1…N in order, the rows after the restart
+/// recomputed (issue 14, item 1: the step column used to be compared with the restart time, so
+/// most rows were dropped).
+#[test]
+fn a_restart_into_the_same_folder_keeps_the_series() {
+    let dir = scratch("series-restart");
+    let case = fluid_case(&dir, 6);
+    let (whole, same) = (dir.join("whole"), dir.join("same"));
+    run_ok(&["run", case.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    run_ok(&["run", case.to_str().unwrap(), "--out", same.to_str().unwrap()]);
+    let mid = same.join("checkpoints").join("step_00000003.ckpt");
+    run_ok(&["run", case.to_str().unwrap(), "--out", same.to_str().unwrap(), "--restart", mid.to_str().unwrap()]);
+    let (a, b) = (read_series(&whole.join("series.csv")).unwrap(), read_series(&same.join("series.csv")).unwrap());
+    assert_eq!(b.column("step").unwrap(), vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    assert_eq!(a.column("time").unwrap(), b.column("time").unwrap());
+    assert_eq!(a.column("kinetic_energy").unwrap(), b.column("kinetic_energy").unwrap(), "the continued series differs from the uninterrupted one");
+}
+
 #[test]
 fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
     let dir = scratch("dem-restart");

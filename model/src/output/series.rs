@@ -29,8 +29,9 @@ impl SeriesWriter {
         Self::open_for_append(path, columns)
     }
 
-    /// Reopens `path` after a restart from `restart_time`: the header must list exactly `columns`;
-    /// rows whose first column exceeds `restart_time` (they will be computed again) and an
+    /// Reopens `path` after a restart at which the first column had the value `restart_time` (the
+    /// run loop's first column is the step): the header must list exactly `columns`; rows whose
+    /// first column exceeds it (they will be computed again) and an
     /// unfinished last line are removed. `None` keeps every complete row. Without an existing
     /// file this is [`SeriesWriter::create`].
     pub fn resume(path: &Path, columns: &[&str], restart_time: Option<f64>) -> Result<Self, OutputError> {
