@@ -67,9 +67,15 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
 
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let case = Case::load(&opts.case)?;
-    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut threads = opts.threads.unwrap_or(cores);
     if threads == 0 {
         anyhow::bail!("--threads 0: expected a whole number ≥ 1");
+    }
+    if threads > cores {
+        // more workers than cores only slow the run down (results do not depend on the count)
+        eprintln!("note: --threads {threads} is more than the {cores} cores of this machine; using {cores}");
+        threads = cores;
     }
     rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set up the thread pool")?;
     let out = opts.out.clone().unwrap_or_else(|| Path::new("results").join(&case.case.name));

@@ -176,6 +176,20 @@ fn a_restart_into_the_same_folder_keeps_the_series() {
     assert_eq!(a.column("kinetic_energy").unwrap(), b.column("kinetic_energy").unwrap(), "the continued series differs from the uninterrupted one");
 }
 
+/// `--threads` above the machine's cores is capped with a note (issue 15, item 7: 99 999 worker
+/// threads were started).
+#[test]
+fn more_threads_than_cores_are_capped_with_a_note() {
+    let dir = scratch("threads");
+    let case = fluid_case(&dir, 1);
+    let out = spillage(&["run", case.to_str().unwrap(), "--out", dir.join("o").to_str().unwrap(), "--threads", "99999"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("more than the"), "no note: {}", String::from_utf8_lossy(&out.stderr));
+    let summary = Summary::read(&dir.join("o").join("summary.json")).unwrap();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(summary.details["threads"], cores as u64);
+}
+
 #[test]
 fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
     let dir = scratch("dem-restart");
