@@ -13,7 +13,7 @@
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::fluid::conditions::Conditions;
-use spillage_model::fluid::initial::initial_fluid_state;
+use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
@@ -98,11 +98,7 @@ impl FastFluid {
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let body_force = numerics.kinematic_body_force(case.physics.gravity);
-        let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
-        let frame = rotating_zone.map(|z| {
-            let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
-            Frame::new(r.origin, r.axis)
-        });
+        let frame = mesh.rotating_zone_axis().map(|(axis, origin)| Frame::new(origin, axis));
         let rotor = Rotor::from_case(case, &mesh).map_err(unsupported)?;
         let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, PatchKind::Interface { .. }));
         if has_interface_patch && (mesh.interfaces.is_empty() || frame.is_none()) {
@@ -112,9 +108,7 @@ impl FastFluid {
         }
 
         let n = mesh.n_cells();
-        let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
-        fluid_state.fill_missing_old_flux(&mesh);
-        fluid_state.check_matches(&mesh).map_err(unsupported)?;
+        prepare_fluid_state(state, case, &mesh).map_err(unsupported)?;
         let mut mesh = mesh;
         let mut rotor = rotor;
         if let Some(r) = rotor.as_mut() {

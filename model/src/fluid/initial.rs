@@ -28,3 +28,12 @@ pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
     state.flux_old = state.flux.clone();
     state
 }
+
+/// The fluid state of `state` ready for a run on `mesh`: the initial state when there is none,
+/// the old flux filled in for checkpoints written before it was stored, and the sizes checked
+/// against the mesh (a checkpoint of another mesh is refused).
+pub fn prepare_fluid_state(state: &mut crate::state::State, case: &Case, mesh: &Mesh) -> Result<(), String> {
+    let fluid = state.fluid.get_or_insert_with(|| initial_fluid_state(case, mesh));
+    fluid.fill_missing_old_flux(mesh);
+    fluid.check_matches(mesh)
+}

@@ -24,6 +24,11 @@ pub fn rigid_velocity(rotation: &ZoneRotation, omega: f64, point: &Vec3) -> Vec3
 }
 
 impl Mesh {
+    /// Axis and origin of the first rotating zone (the frame of the sliding interfaces), if any.
+    pub fn rotating_zone_axis(&self) -> Option<(Vec3, Vec3)> {
+        self.zones.iter().find_map(|z| z.rotation.as_ref()).map(|r| (r.axis, r.origin))
+    }
+
     fn rotation_of(&self, zone: usize) -> Result<&ZoneRotation, MeshError> {
         let z = self.zones.get(zone).ok_or(MeshError::UnknownZone { zone, n_zones: self.zones.len() })?;
         z.rotation.as_ref().ok_or_else(|| MeshError::ZoneNotRotating { name: z.name.clone() })

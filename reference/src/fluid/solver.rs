@@ -2,7 +2,7 @@
 
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
-use spillage_model::fluid::initial::initial_fluid_state;
+use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
@@ -46,16 +46,10 @@ impl ReferenceFluid {
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let body_force = numerics.kinematic_body_force(case.physics.gravity);
-        let rotating_zone = mesh.zones.iter().position(|z| z.rotation.is_some());
-        let interface_axis = rotating_zone.map(|z| {
-            let r = mesh.zones[z].rotation.as_ref().expect("rotating zone");
-            (r.axis, r.origin)
-        });
+        let interface_axis = mesh.rotating_zone_axis();
         let rotor = RotorMotion::from_case(case, &mesh).map_err(SolverError::Unsupported)?;
 
-        let fluid_state = state.fluid.get_or_insert_with(|| initial_fluid_state(case, &mesh));
-        fluid_state.fill_missing_old_flux(&mesh);
-        fluid_state.check_matches(&mesh).map_err(SolverError::Unsupported)?;
+        prepare_fluid_state(state, case, &mesh).map_err(SolverError::Unsupported)?;
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
