@@ -36,7 +36,7 @@ pub struct RunOptions {
 pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
     let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
     if let Some(restart) = &state {
-        spillage_model::step::check_restart_state(case, restart).map_err(located)?;
+        spillage_model::step::check_state_matches_case(case, restart).map_err(located)?;
     }
     let mut state = state.unwrap_or_default();
     let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, &case.mesh) {
@@ -170,8 +170,7 @@ impl Running<'_> {
             // Half a step of slack so round-off in the accumulated time never adds a step.
             (None, Some(end)) => match t.dt {
                 Some(dt) => state.time >= end - 0.5 * dt,
-                // the adaptive step lands on end_time; the sum of the steps may miss it by round-off
-                None => state.time >= end - 1e-12 * end.abs(),
+                None => spillage_model::step::reached_end_time(state.time, end),
             },
             (None, None) => true,
         }

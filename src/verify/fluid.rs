@@ -80,7 +80,7 @@ fn run(case: &Case) -> Result<(FluidOnly<ReferenceFluid>, RunSummary)> {
         last_residual: f64::NAN,
     };
     for _ in 0..steps {
-        if end_time.is_some_and(|end| solver.state().time >= end - 1e-12 * end) {
+        if end_time.is_some_and(|end| spillage_model::step::reached_end_time(solver.state().time, end)) {
             break;
         }
         summary.steps += 1;

@@ -105,7 +105,6 @@ pub fn remove_exited(
         state.contacts.retain(|r| !gone.contains(&r.particle) && !matches!(r.partner, Partner::Particle(j) if gone.contains(&j)));
     }
     let n = gone.len() as u64;
-    state.counts.escaped += n;
     state.exits.extend(exits);
     n
 }

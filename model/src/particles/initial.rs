@@ -21,7 +21,7 @@ pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
     for (g, group) in section.groups.iter().enumerate() {
         add_group(section, group, &format!("particles.groups.{g}"), &mut state)?;
     }
-    state.counts = ParticleCounts { created: state.particles.len() as u64, escaped: 0 };
+    state.counts = ParticleCounts { created: state.particles.len() as u64 };
     Ok(state)
 }
 

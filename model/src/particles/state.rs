@@ -96,13 +96,11 @@ pub struct ImpactRecord {
     pub diameter: f64,
 }
 
-/// Particle bookkeeping: created = particles.len() + escaped, always.
+/// Particle bookkeeping: created = particles.len() + exits.len(), always.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ParticleCounts {
     /// Created in total (initial + fed).
     pub created: u64,
-    /// Removed because they left the domain (each is logged in [`ParticleState::exits`]).
-    pub escaped: u64,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -114,11 +112,18 @@ pub struct ParticleState {
     /// Every particle–wall impact so far, in time order.
     pub impacts: Vec<ImpactRecord>,
     pub counts: ParticleCounts,
-    /// Every particle that left, in the order it left (`counts.escaped` of them).
+    /// Every particle that left, in the order it left.
     pub exits: Vec<super::bookkeeping::ExitRecord>,
     /// Next id to hand out.
     pub next_id: u64,
     /// Per feed: particles owed but not yet placed (fractional), and its random stream.
     pub feed_debt: Vec<f64>,
     pub feed_random: Vec<SplitMix64>,
+}
+
+impl ParticleState {
+    /// Particles that left the domain so far.
+    pub fn escaped(&self) -> u64 {
+        self.exits.len() as u64
+    }
 }

@@ -77,17 +77,10 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 has(particles.is_some())
             )));
         }
-        if fluid.is_some() && state.fluid.is_none() {
-            return Err(unsupported("the state has no fluid for the fluid phase (a checkpoint of a particle-only run?)"));
-        }
-        if particles.is_some() && (state.particles.is_none() || state.walls.is_none()) {
-            return Err(unsupported("the state has no particles or walls for the particle phase (a checkpoint of a fluid-only run?)"));
-        }
-        if fluid.is_none() && state.fluid.is_some() {
-            return Err(unsupported("the state has a fluid but the case runs no fluid phase (a checkpoint of another case?)"));
-        }
-        if particles.is_none() && state.particles.is_some() {
-            return Err(unsupported("the state has particles but the case runs no particle phase (a checkpoint of another case?)"));
+        // the phases match the case, so the state must match it too
+        check_state_matches_case(case, &state)?;
+        if particles.is_some() && state.walls.is_none() {
+            return Err(unsupported("the state has particles but no walls"));
         }
         let time_step = TimeStepControl::from_case(case, fluid.is_some())?;
         let rotor = RotorPose::from_case(case, state.rotor_angle);
@@ -127,10 +120,6 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
 
     pub fn particle_phase(&self) -> Option<&P> {
         self.particles.as_ref()
-    }
-
-    pub fn particle_phase_mut(&mut self) -> Option<&mut P> {
-        self.particles.as_mut()
     }
 
     /// The phases and the state at once, for verification rigs that drive a phase below the
@@ -201,7 +190,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             let domain = section.domain.clone();
             bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| exit_route(domain.as_ref(), mesh, &p.position));
             report.values.push(("particles", particles.particles.len() as f64));
-            report.values.push(("escaped", particles.counts.escaped as f64));
+            report.values.push(("escaped", particles.escaped() as f64));
             report.values.push(("impacts", particles.impacts.len() as f64));
         }
 
@@ -241,14 +230,14 @@ impl<P: ParticlePhase> Coupled<Absent, P> {
     }
 }
 
-/// Refuses a restart state whose phases do not match the case: a particle-only checkpoint for
-/// a case with a fluid (or the reverse) would otherwise be filled up by the phases'
-/// constructors and silently restart the missing phase from its initial state.
-pub fn check_restart_state(case: &Case, state: &State) -> Result<(), SolverError> {
+/// Refuses a state whose parts do not match the case. Called on a restart state before the
+/// phases' constructors (which would fill a missing part from its initial state, silently
+/// restarting it) and by [`Coupled::new`].
+pub fn check_state_matches_case(case: &Case, state: &State) -> Result<(), SolverError> {
     let has = |b: bool| if b { "has" } else { "has no" };
     if case.fluid.is_some() != state.fluid.is_some() || case.particles.is_some() != state.particles.is_some() {
         return Err(unsupported(format!(
-            "the checkpoint {} fluid and {} particles, but the case {} [fluid] and {} [particles] (a checkpoint of another case?)",
+            "the state {} fluid and {} particles, but the case {} [fluid] and {} [particles] (a checkpoint of another case?)",
             has(state.fluid.is_some()),
             has(state.particles.is_some()),
             has(case.fluid.is_some()),

@@ -14,7 +14,7 @@ pub mod rotor_pose;
 pub mod time_step;
 
 pub use context::{time_coefficients, StepContext};
-pub use coupled::{check_restart_state, Coupled, FluidOnly, ParticlesOnly};
+pub use coupled::{check_state_matches_case, Coupled, FluidOnly, ParticlesOnly};
 pub use phases::{Absent, FluidPhase, FluidStepOutcome, ParticleLoad, ParticlePhase};
 pub use rotor_pose::{rigid_rotation_velocity, RotorPose, RotorZone};
-pub use time_step::TimeStepControl;
+pub use time_step::{reached_end_time, TimeStepControl};

@@ -82,6 +82,12 @@ impl TimeStepControl {
     }
 }
 
+/// Whether an adaptive run at `time` has reached `end_time`: its last step lands on the end
+/// time, and the sum of the steps may miss it only by round-off.
+pub fn reached_end_time(time: f64, end_time: f64) -> bool {
+    time >= end_time - 1e-12 * end_time.abs()
+}
+
 /// OpenFOAM's `setDeltaT`: Δt after a step of `dt_old` that reached Courant number `courant`.
 pub fn adapted_dt(dt_old: f64, courant: f64, max_courant: f64) -> f64 {
     let factor = max_courant / (courant + f64::MIN_POSITIVE);
