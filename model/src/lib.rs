@@ -7,6 +7,7 @@
 pub mod case;
 pub mod checkpoint;
 pub mod closure;
+pub mod coupling;
 pub mod fluid;
 pub mod mesh;
 pub mod output;

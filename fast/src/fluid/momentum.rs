@@ -55,7 +55,7 @@ pub struct MomentumInputs<'a> {
 /// link the convection and diffusion coefficients and the explicit viscous flux, then per cell
 /// the time term, the gathered link terms, the boundary terms and the implicit under-relaxation.
 pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficients, system: &mut MomentumSystem) {
-    let StepConstants { disc, time, alpha, numerics } = inputs.step;
+    let StepConstants { disc, time, alpha, numerics, particles } = inputs.step;
     let (nu, body_force) = (inputs.nu, inputs.body_force);
     let links = disc.links;
     let (velocity, gradient) = (inputs.velocity, inputs.velocity_gradient);
@@ -101,6 +101,10 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
         let mut diag = c0 * alpha.current[c] * v / dt;
         let mut source = -(vec_of(velocity_old, c) * (c1 * alpha.old[c]) + vec_of(velocity_old_old, c) * (c2 * alpha.old_old[c])) * (v / dt);
         source += body_force * v;
+        if let Some(particles) = particles {
+            diag += particles.implicit_drag[c];
+            source += particles.explicit_force[c];
+        }
         for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
             let e = adj.entry[k] as usize;
             let l = e >> 1;

@@ -11,17 +11,16 @@
 //! 5. [`diagnostics::step_diagnostics`], [`finish_step`]: state update and report.
 
 use spillage_model::case::Case;
-use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::conditions::Conditions;
 use spillage_model::fluid::initial::prepare_fluid_state;
-use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
+use spillage_model::fluid::sampling::FluidSample;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Overlap, PatchKind, Vec3};
-use spillage_model::particles::Particle;
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
-use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
+use spillage_model::step::{FluidPhase, FluidStepOutcome, RotorPose, StepContext};
 
 use super::buffers::StepBuffers;
 use super::diagnostics::step_diagnostics;
@@ -34,7 +33,7 @@ use super::settings::{FastSettings, SolveCounts};
 use super::starting_values::{
     boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels,
 };
-use super::step_inputs::{Discretisation, StepConstants, StepSolution, TimeStep, VolumeFractions};
+use super::step_inputs::{Discretisation, ParticleSources, StepConstants, StepSolution, TimeStep, VolumeFractions};
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::reduce::Reducer;
 
@@ -76,6 +75,9 @@ pub struct FastFluid {
     /// Velocity components solved (false along the normal of empty patches: 2-D meshes).
     solved: [bool; 3],
     buffers: StepBuffers,
+    /// The particle load of the step being taken, kinematic, and whether there is one.
+    particle_sources: ParticleSources,
+    particles_active: bool,
     momentum_solver: BiCgStab,
     pressure_solver: PressureSolver,
     reducer: Reducer,
@@ -151,6 +153,8 @@ impl FastFluid {
             adjacency: Adjacency::default(),
             solved,
             buffers: StepBuffers::default(),
+            particle_sources: ParticleSources::default(),
+            particles_active: false,
             momentum_solver: BiCgStab::default(),
             pressure_solver: PressureSolver::default(),
             reducer: Reducer::default(),
@@ -281,7 +285,8 @@ impl FastFluid {
             solved: self.solved,
         };
         let alpha = VolumeFractions::of(fluid);
-        let step = StepConstants { disc, time, alpha, numerics: &self.numerics };
+        let particles = self.particles_active.then_some(&self.particle_sources);
+        let step = StepConstants { disc, time, alpha, numerics: &self.numerics, particles };
         self.counts = SolveCounts::default();
         let mut outer_iterations = 0;
         let mut last_residual = f64::NAN;
@@ -382,11 +387,12 @@ impl FluidPhase for FastFluid {
         &mut self,
         ctx: &StepContext,
         fluid: &mut FluidState,
-        load: Option<&ParticleLoad>,
+        load: Option<&CellLoad>,
         report: &mut StepReport,
     ) -> Result<FluidStepOutcome, SolverError> {
-        if load.is_some() {
-            return Err(unsupported("two-way coupling (a particle load on the fluid) is not implemented yet"));
+        self.particles_active = load.is_some();
+        if let Some(load) = load {
+            self.particle_sources.set(load, self.density);
         }
         self.dt = ctx.dt;
         self.time_coefficients = ctx.time_coefficients;
@@ -403,10 +409,8 @@ impl FluidPhase for FastFluid {
         result
     }
 
-    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
-        let source =
-            FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old };
-        sample_containing_cell(&source, particles, out);
+    fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
+        FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old }
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every link.

@@ -246,7 +246,7 @@ fn predicted_link_fluxes(inputs: &CorrectorInputs, pressure_gradient: &[Vec3], w
 /// divergence of α_f φ_pred plus the boundary terms and ∂α/∂t V. Without a fixed-pressure
 /// boundary, cell 0 is pinned (diagonal doubled).
 fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuffers) {
-    let StepConstants { disc, time, alpha, .. } = inputs.step;
+    let StepConstants { disc, time, alpha, particles, .. } = inputs.step;
     let (adj, bnd, vol) = (disc.adjacency, disc.boundary, disc.cell_volumes);
     let prescribed = inputs.prescribed_boundary_flux;
     let (coefficient, alpha_predicted, r_au, h_by_a) = (&work.pressure_laplacian_coefficient, &work.alpha_predicted_link_flux, &work.r_au, &work.h_by_a);
@@ -279,7 +279,10 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
                 _ => {}
             }
         }
-        rhs -= alpha.rate_times_volume(time, c, vol[c]);
+        // ∂α/∂t V, left out where the interface mask covers the cell (T4.54)
+        if !particles.is_some_and(|p| p.masked[c]) {
+            rhs -= alpha.rate_times_volume(time, c, vol[c]);
+        }
         unsafe {
             out_diagonal.set(c, diag);
             out_rhs.set(c, rhs);

@@ -81,6 +81,28 @@ impl<'a> VolumeFractions<'a> {
     }
 }
 
+/// The particle load of a two-way coupled step in kinematic form (spec §8.4): per cell the
+/// implicit drag C_j/ρ [m³/s] for the momentum diagonal, the explicit force F_j/ρ [m⁴/s²] for
+/// its source, and whether the interface mask drops ∂α/∂t from the pressure equation (T4.54).
+#[derive(Clone, Debug, Default)]
+pub struct ParticleSources {
+    pub implicit_drag: Vec<f64>,
+    pub explicit_force: Vec<Vec3>,
+    pub masked: Vec<bool>,
+}
+
+impl ParticleSources {
+    /// Copies `load` divided by `density` into the buffers (allocation-free once sized).
+    pub fn set(&mut self, load: &spillage_model::coupling::CellLoad, density: f64) {
+        self.implicit_drag.clear();
+        self.implicit_drag.extend(load.implicit_drag.iter().map(|c| c / density));
+        self.explicit_force.clear();
+        self.explicit_force.extend(load.explicit_force.iter().map(|f| f / density));
+        self.masked.clear();
+        self.masked.extend_from_slice(&load.masked);
+    }
+}
+
 /// What the momentum and pressure kernels of the outer loop all read, fixed during the step.
 #[derive(Clone, Copy)]
 pub struct StepConstants<'a> {
@@ -88,6 +110,8 @@ pub struct StepConstants<'a> {
     pub time: TimeStep,
     pub alpha: VolumeFractions<'a>,
     pub numerics: &'a NumericsSection,
+    /// The particle load (two-way coupling), if any.
+    pub particles: Option<&'a ParticleSources>,
 }
 
 /// The solution of a step: cell velocity and pressure, boundary pressures, link and boundary

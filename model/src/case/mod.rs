@@ -41,6 +41,8 @@ pub struct Case {
     #[serde(default)]
     pub boundary: BTreeMap<String, BoundaryCondition>,
     pub particles: Option<ParticlesSection>,
+    /// Two-way coupling of particles and fluid; without it a case with both is one-way coupled.
+    pub coupling: Option<crate::coupling::CouplingSection>,
     #[serde(default)]
     pub walls: Vec<WallSection>,
     /// Erosive wear of the walls.
@@ -149,6 +151,12 @@ impl Case {
         }
         if let Some(particles) = &self.particles {
             particles.validate()?;
+        }
+        if let Some(coupling) = &self.coupling {
+            coupling.validate()?;
+            if self.fluid.is_none() || self.particles.is_none() {
+                return Err(FieldError::new("coupling", "(a [coupling] section)", "[coupling] only in a case with both [fluid] and [particles]"));
+            }
         }
         for (i, wall) in self.walls.iter().enumerate() {
             wall.validate(i)?;

@@ -16,6 +16,9 @@ pub enum DragLaw {
     BrownLawler,
     /// Schiller–Naumann (T3.40), for comparison.
     SchillerNaumann,
+    /// Stokes, C_d = 24/Re_s: the wear thesis' settling check (wear-model.md §12.2), which is
+    /// reproduced only with pure Stokes drag.
+    Stokes,
 }
 
 /// Drag coefficient C_d(Re_s); Re_s = 0 returns +∞ (the Stokes limit, handled by the caller).
@@ -31,19 +34,38 @@ pub fn drag_coefficient(law: DragLaw, reynolds: f64) -> f64 {
                 0.44
             }
         }
+        DragLaw::Stokes => 24.0 / reynolds,
     }
 }
 
-/// Linearised drag coefficient K = ½ C_d A_p ρ_c |u_c − u_p| h [kg/s] such that F_d = K (u_c − u_p)
-/// (T3.38 with the hindrance factor h = α_c^{1−β}, §5.10). At zero slip K is the Stokes limit
-/// 3π μ d_p h, the limit of ½ C_d A ρ |u| as Re → 0.
-pub fn drag_factor(law: DragLaw, diameter: f64, fluid_density: f64, kinematic_viscosity: f64, slip_speed: f64, hindrance: f64) -> f64 {
+/// Di Felice exponent β(Re_p) = 3.7 − 0.65 exp(−(1.5 − log₁₀ Re_p)²/2) (T3.58); 3.7 at Re_p = 0.
+pub fn di_felice_exponent(particle_reynolds: f64) -> f64 {
+    if particle_reynolds <= 0.0 {
+        return 3.7;
+    }
+    3.7 - 0.65 * (-(1.5 - particle_reynolds.log10()).powi(2) / 2.0).exp()
+}
+
+/// Hindered-drag factor α_c^{1−β(Re_p)} with Re_p = α_c Re_s (T3.62, the fluid-pressure form
+/// the solver uses; spec §11.3: C_d takes Re_s, β takes Re_p). 1 for a lone particle (α_c = 1).
+pub fn hindrance(fluid_fraction: f64, slip_reynolds: f64) -> f64 {
+    if fluid_fraction >= 1.0 {
+        return 1.0;
+    }
+    fluid_fraction.powf(1.0 - di_felice_exponent(fluid_fraction * slip_reynolds))
+}
+
+/// Linearised drag coefficient K = ½ C_d A_p ρ_c |u_c − u_p| α_c^{1−β} [kg/s] such that
+/// F_d = K (u_c − u_p) (T3.38 with the hindrance factor of T3.62, §5.10). At zero slip K is the
+/// Stokes limit 3π μ d_p α_c^{−2.7}, the limit of ½ C_d A ρ |u| as Re → 0.
+pub fn drag_factor(law: DragLaw, diameter: f64, fluid_density: f64, kinematic_viscosity: f64, slip_speed: f64, fluid_fraction: f64) -> f64 {
     let reynolds = slip_speed * diameter / kinematic_viscosity;
+    let h = hindrance(fluid_fraction, reynolds);
     if reynolds <= 1e-12 {
-        return 3.0 * std::f64::consts::PI * fluid_density * kinematic_viscosity * diameter * hindrance;
+        return 3.0 * std::f64::consts::PI * fluid_density * kinematic_viscosity * diameter * h;
     }
     let area = std::f64::consts::PI * diameter * diameter / 4.0;
-    0.5 * drag_coefficient(law, reynolds) * area * fluid_density * slip_speed * hindrance
+    0.5 * drag_coefficient(law, reynolds) * area * fluid_density * slip_speed * h
 }
 
 /// What a particle sees of the fluid around it (sampled by the coupling, or a still ambient fluid).
@@ -55,14 +77,15 @@ pub struct FluidAtParticle {
     pub velocity: Vec3,
     /// Material acceleration Du_c|p/Dt [m/s²].
     pub material_acceleration: Vec3,
-    /// Hindered-settling factor α_c^{1−β} (1 for a single particle).
-    pub hindrance: f64,
+    /// Fluid fraction α_c|p at the particle (1 for a lone particle; §6.5 T3.86): it sets the
+    /// hindered-drag factor α_c^{1−β}.
+    pub fluid_fraction: f64,
 }
 
 impl FluidAtParticle {
     /// A fluid at rest, without hindrance.
     pub fn still(density: f64, kinematic_viscosity: f64) -> Self {
-        Self { density, kinematic_viscosity, velocity: Vec3::zeros(), material_acceleration: Vec3::zeros(), hindrance: 1.0 }
+        Self { density, kinematic_viscosity, velocity: Vec3::zeros(), material_acceleration: Vec3::zeros(), fluid_fraction: 1.0 }
     }
 }
 
@@ -74,17 +97,55 @@ impl FluidAtParticle {
 ///
 /// Without a fluid (`fluid = None`) this is u + Δt g.
 pub fn fluid_force_update(law: DragLaw, velocity: Vec3, diameter: f64, particle_density: f64, fluid: Option<&FluidAtParticle>, gravity: Vec3, dt: f64) -> Vec3 {
-    let Some(fluid) = fluid else {
-        return velocity + dt * gravity;
-    };
+    match fluid {
+        Some(fluid) => fluid_force_step(law, velocity, diameter, particle_density, fluid, gravity, dt).velocity,
+        None => velocity + dt * gravity,
+    }
+}
+
+/// One implicit fluid-force update (see [`fluid_force_update`]) with what the fluid receives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FluidForceStep {
+    /// The particle velocity after the update.
+    pub velocity: Vec3,
+    /// K [kg/s], evaluated at the start of the update.
+    pub drag_factor: f64,
+    /// Drag on the particle F_d = K (u_c|p − u_new) [N].
+    pub drag: Vec3,
+    /// Added-mass plus fluid-acceleration force on the particle over the update,
+    /// F_AM + F_pg = (1 + C_AM) V ρ_c Du_c/Dt − C_AM V ρ_c (u_new − u)/Δt [N] (T3.43, T3.45).
+    pub fluid_acceleration_force: Vec3,
+    /// Slip Reynolds number |u_c|p − u| d/ν at the start of the update (T3.42).
+    pub slip_reynolds: f64,
+}
+
+impl FluidForceStep {
+    /// Explicit part of the coupled force on the fluid, K u_new − (F_AM + F_pg) (spec §8.4,
+    /// sign corrected): with −K u_cell implicit in the fluid, the fluid receives −(F_d + F_AM +
+    /// F_pg) once u_cell = u_c|p (§2.6).
+    pub fn explicit_feedback(&self) -> Vec3 {
+        self.drag_factor * self.velocity - self.fluid_acceleration_force
+    }
+}
+
+/// [`fluid_force_update`] with the forces it applied.
+pub fn fluid_force_step(law: DragLaw, velocity: Vec3, diameter: f64, particle_density: f64, fluid: &FluidAtParticle, gravity: Vec3, dt: f64) -> FluidForceStep {
     let volume = std::f64::consts::PI * diameter.powi(3) / 6.0;
     let effective_mass = volume * (particle_density + ADDED_MASS_COEFFICIENT * fluid.density);
     let slip = (fluid.velocity - velocity).norm();
-    let k = drag_factor(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.hindrance);
+    let k = drag_factor(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
     let explicit = k * fluid.velocity
         + (1.0 + ADDED_MASS_COEFFICIENT) * volume * fluid.density * fluid.material_acceleration
         + volume * (particle_density - fluid.density) * gravity;
-    (effective_mass * velocity + dt * explicit) / (effective_mass + k * dt)
+    let new = (effective_mass * velocity + dt * explicit) / (effective_mass + k * dt);
+    FluidForceStep {
+        velocity: new,
+        drag_factor: k,
+        drag: k * (fluid.velocity - new),
+        fluid_acceleration_force: (1.0 + ADDED_MASS_COEFFICIENT) * volume * fluid.density * fluid.material_acceleration
+            - ADDED_MASS_COEFFICIENT * volume * fluid.density * (new - velocity) / dt,
+        slip_reynolds: slip * diameter / fluid.kinematic_viscosity,
+    }
 }
 
 #[cfg(test)]
@@ -101,6 +162,39 @@ mod tests {
         assert_relative_eq!(drag_coefficient(DragLaw::BrownLawler, 7000.0), 0.398435, max_relative = 1e-5);
         assert_relative_eq!(drag_coefficient(DragLaw::SchillerNaumann, 7000.0), 0.44);
         assert_relative_eq!(drag_coefficient(DragLaw::SchillerNaumann, 1000.0), 0.43829, max_relative = 1e-5);
+    }
+
+    /// U-04 and U-06 (§12): β minimum 3.05 at Re_p = 10^1.5, symmetric in log Re_p; the
+    /// factor is 1 at α_c = 1.
+    #[test]
+    fn di_felice_exponent_and_hindrance() {
+        assert_relative_eq!(di_felice_exponent(10f64.powf(1.5)), 3.05, max_relative = 1e-12);
+        assert_relative_eq!(di_felice_exponent(10.0), 3.126377, max_relative = 1e-6);
+        assert_relative_eq!(di_felice_exponent(100.0), 3.126377, max_relative = 1e-6);
+        assert_relative_eq!(di_felice_exponent(7332.78), 3.660365, max_relative = 1e-6);
+        assert_eq!(hindrance(1.0, 500.0), 1.0);
+        // α_c = 0.9, Re_s = 100/0.9 → Re_p = 100, β = 3.126377: 0.9^(−2.126377)
+        assert_relative_eq!(hindrance(0.9, 100.0 / 0.9), 0.9f64.powf(1.0 - 3.126377), max_relative = 1e-6);
+    }
+
+    /// The fluid receives exactly what the update took from the particle: m_p Δu/Δt =
+    /// F_d + F_AM + F_pg + V(ρ_p − ρ_c) g (§5.7), whatever the fluid's motion.
+    #[test]
+    fn forces_of_the_update_balance_the_momentum_change() {
+        let fluid = FluidAtParticle {
+            density: 998.2,
+            kinematic_viscosity: 1.0034e-6,
+            velocity: Vec3::new(0.2, -0.1, 0.05),
+            material_acceleration: Vec3::new(-1.0, 0.3, 2.0),
+            fluid_fraction: 0.8,
+        };
+        let (d, rho, g, dt) = (0.01, 2650.0, Vec3::new(0.0, 0.0, -9.81), 1e-3);
+        let u = Vec3::new(-0.3, 0.4, -0.6);
+        let step = fluid_force_step(DragLaw::BrownLawler, u, d, rho, &fluid, g, dt);
+        let volume = std::f64::consts::PI * d.powi(3) / 6.0;
+        let lhs = rho * volume * (step.velocity - u) / dt;
+        let rhs = step.drag + step.fluid_acceleration_force + volume * (rho - fluid.density) * g;
+        assert!((lhs - rhs).norm() < 1e-12 * lhs.norm(), "{lhs} vs {rhs}");
     }
 
     /// U-10: initial acceleration from rest, (ρ_p−ρ_c) g / (ρ_p + C_AM ρ_c) = 5.14565 m/s².

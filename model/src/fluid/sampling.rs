@@ -37,7 +37,7 @@ pub fn sample_containing_cell(source: &FluidSample, particles: &[Particle], out:
             kinematic_viscosity: source.kinematic_viscosity,
             velocity: Vec3::from(source.fluid.velocity[cell]),
             material_acceleration: material_acceleration(source, cell),
-            hindrance: 1.0,
+            fluid_fraction: source.fluid.alpha[cell],
         }));
     }
 }

@@ -100,6 +100,8 @@ pub fn remove_exited(
         retain(&mut load.volume, &keep);
         retain(&mut load.implicit_drag, &keep);
         retain(&mut load.explicit_force, &keep);
+        retain(&mut load.drag, &keep);
+        retain(&mut load.slip_reynolds, &keep);
     }
     if !gone.is_empty() {
         state.contacts.retain(|r| !gone.contains(&r.particle) && !matches!(r.partner, Partner::Particle(j) if gone.contains(&j)));
@@ -146,8 +148,13 @@ mod tests {
             ..Default::default()
         };
         state.counts.created = 3;
-        let mut load =
-            crate::step::ParticleLoad { volume: vec![1.0, 2.0, 3.0], implicit_drag: vec![0.1, 0.2, 0.3], explicit_force: vec![[0.0; 3], [1.0; 3], [2.0; 3]] };
+        let mut load = crate::step::ParticleLoad {
+            volume: vec![1.0, 2.0, 3.0],
+            implicit_drag: vec![0.1, 0.2, 0.3],
+            explicit_force: vec![[0.0; 3], [1.0; 3], [2.0; 3]],
+            drag: vec![[0.0; 3], [1.0; 3], [2.0; 3]],
+            slip_reynolds: vec![1.0, 2.0, 3.0],
+        };
         let n = remove_exited(&mut state, Some(&mut load), 1.5, |p| (p.position.x > 1.0).then_some(ExitRoute::Domain));
         assert_eq!(n, 1);
         assert_eq!(state.particles.iter().map(|p| p.id).collect::<Vec<_>>(), vec![0, 2]);

@@ -10,8 +10,11 @@
 //! 4. DEM sub-steps: particles and walls to tⁿ⁺¹ ([`ParticlePhase::advance`]);
 //! 5. exits: particles that left the domain or the mesh are removed and logged (with their
 //!    entries of the particle load);
-//! 6. PIMPLE with the particle load ([`FluidPhase::advance`]; one-way coupling passes none);
-//! 7. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
+//! 6. map: with `[coupling]`, the particles' volume and load go to the cells
+//!    ([`ParticleMeshMap::deposit`]) and α_c = 1 − α_p becomes the fluid's fraction of this step
+//!    (T3.90; ∂α_c/∂t then follows from the stored time levels, T3.92);
+//! 7. PIMPLE with the cell load ([`FluidPhase::advance`]; one-way coupling passes none);
+//! 8. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
 //!
 //! A step that returns an error leaves the run unusable (the particles may already have moved
 //! while the fluid and the clock have not): the caller stops and reports, as `spillage run`
@@ -27,6 +30,8 @@ use super::rotor_pose::RotorPose;
 use super::time_step::TimeStepControl;
 use crate::case::Case;
 use crate::closure::drag::FluidAtParticle;
+use crate::coupling::{CellLoad, ParticleMeshMap};
+use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
 use crate::particles::bookkeeping::{self, ExitRoute};
@@ -47,6 +52,13 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     ambient: Option<FluidAtParticle>,
     /// Fluid seen by each particle this step (reused).
     samples: Vec<Option<FluidAtParticle>>,
+    /// The particle ↔ mesh mapping of a two-way coupled run (`[coupling]`).
+    mapping: Option<ParticleMeshMap>,
+    /// The particle load of the last step, per particle and mapped to the cells (output).
+    particle_load: Option<ParticleLoad>,
+    cell_load: Option<CellLoad>,
+    /// Unit vector along gravity (settling velocities), if there is gravity.
+    down: Option<Vec3>,
     label: &'static str,
 }
 
@@ -111,7 +123,53 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             (None, Some(p)) => p.name(),
             (None, None) => unreachable!("checked above"),
         };
-        Ok(Coupled { fluid, particles, state, scheme: case.numerics.time_scheme, time_step, rotor, particle_section, ambient, samples: Vec::new(), label })
+        let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(ParticleMeshMap::new);
+        if let (Some(map), Some(f), Some(fluid_state), Some(p)) = (&mapping, &fluid, state.fluid.as_mut(), &state.particles) {
+            if state.step == 0 {
+                // the initial particles' fraction is there before the first step, at every time
+                // level, so the first ∂α_c/∂t sees only what the particles do in that step
+                let mut cells = CellLoad::default();
+                let volumes = ParticleLoad { volume: p.particles.iter().map(|p| p.volume()).collect(), ..ParticleLoad::zeros(p.particles.len()) };
+                map.deposit(f.mesh(), &p.particles, &volumes, &mut cells);
+                map.fluid_fraction(&cells, &mut fluid_state.alpha);
+                fluid_state.alpha_old.clone_from(&fluid_state.alpha);
+                fluid_state.alpha_old_old.clone_from(&fluid_state.alpha);
+            }
+        }
+        let g = Vec3::from(case.physics.gravity);
+        let down = (g.norm() > 0.0).then(|| g.normalize());
+        Ok(Coupled {
+            fluid,
+            particles,
+            state,
+            scheme: case.numerics.time_scheme,
+            time_step,
+            rotor,
+            particle_section,
+            ambient,
+            samples: Vec::new(),
+            mapping,
+            particle_load: None,
+            cell_load: None,
+            down,
+            label,
+        })
+    }
+
+    /// The particle load of the last step, per particle (two-way coupled runs).
+    pub fn particle_load(&self) -> Option<&ParticleLoad> {
+        self.particle_load.as_ref()
+    }
+
+    /// The particle load of the last step mapped to the cells (two-way coupled runs).
+    pub fn cell_load(&self) -> Option<&CellLoad> {
+        self.cell_load.as_ref()
+    }
+
+    /// The fluid each particle saw in the last step, in the order of the particles before that
+    /// step's exits.
+    pub fn fluid_at_particles(&self) -> &[Option<FluidAtParticle>] {
+        &self.samples
     }
 
     pub fn fluid_phase(&self) -> Option<&F> {
@@ -168,8 +226,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             let particles = self.state.particles.as_mut().expect("checked in new");
             bookkeeping::feed(section, particles, ctx.time, dt);
             self.samples.clear();
-            match (&self.fluid, &self.state.fluid) {
-                (Some(fluid), Some(fluid_state)) => fluid.sample(fluid_state, &particles.particles, &mut self.samples),
+            match (&self.fluid, &self.state.fluid, &self.mapping) {
+                (Some(fluid), Some(fluid_state), Some(map)) => map.sample(&fluid.sample_source(fluid_state), &particles.particles, &mut self.samples),
+                (Some(fluid), Some(fluid_state), None) => sample_containing_cell(&fluid.sample_source(fluid_state), &particles.particles, &mut self.samples),
                 _ => self.samples.resize(particles.particles.len(), self.ambient),
             }
             let walls = self.state.walls.as_mut().expect("checked in new");
@@ -192,19 +251,38 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             report.values.push(("particles", particles.particles.len() as f64));
             report.values.push(("escaped", particles.escaped() as f64));
             report.values.push(("impacts", particles.impacts.len() as f64));
+            if let Some(down) = self.down.filter(|_| !particles.particles.is_empty()) {
+                report.values.push(("settling_velocity", median(particles.particles.iter().map(|p| p.velocity.dot(&down)).collect())));
+            }
         }
 
-        // 6. the fluid, with the particle load of this step
+        // 6. map the particle load to the cells; α_c of this step
+        if let (Some(map), Some(phase)) = (&self.mapping, &self.fluid) {
+            let load = load.as_ref().ok_or_else(|| unsupported("a two-way coupled case, but the particle phase returned no particle load"))?;
+            let particles = self.state.particles.as_ref().expect("checked in new");
+            let fluid = self.state.fluid.as_mut().expect("checked in new");
+            let cells = self.cell_load.get_or_insert_with(CellLoad::default);
+            map.deposit(phase.mesh(), &particles.particles, load, cells);
+            let clamped = map.fluid_fraction(cells, &mut fluid.alpha);
+            let mesh = phase.mesh();
+            let alpha_p_max = cells.particle_fraction.iter().fold(0.0, |a: f64, b| a.max(*b));
+            let mapped_volume: f64 = cells.particle_fraction.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v).sum();
+            report.values.extend([("alpha_p_max", alpha_p_max), ("alpha_c_clamped", clamped as f64), ("particle_volume", mapped_volume)]);
+        }
+        self.particle_load = load;
+
+        // 7. the fluid, with the particle load of this step
         if let Some(phase) = self.fluid.as_mut() {
             let fluid = self.state.fluid.as_mut().expect("checked in new");
-            let outcome = phase.advance(&ctx, fluid, load.as_ref(), report)?;
+            let cells = self.mapping.as_ref().and(self.cell_load.as_ref());
+            let outcome = phase.advance(&ctx, fluid, cells, report)?;
             if !outcome.courant_max.is_finite() {
                 return Err(diverged(format!("Courant number {}", outcome.courant_max)));
             }
             self.state.courant = outcome.courant_max;
         }
 
-        // 7. the clock
+        // 8. the clock
         self.state.time = ctx.time_end();
         self.state.step = ctx.step;
         self.state.dt = dt;
@@ -245,6 +323,17 @@ pub fn check_state_matches_case(case: &Case, state: &State) -> Result<(), Solver
         )));
     }
     Ok(())
+}
+
+/// The median of `values` (the mean of the middle two for an even count); `values` not empty.
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
 }
 
 /// Where a particle at `position` has left to, if anywhere: outside `[particles] domain`, or

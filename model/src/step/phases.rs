@@ -3,9 +3,11 @@
 
 use super::context::StepContext;
 use crate::closure::drag::FluidAtParticle;
+use crate::coupling::CellLoad;
+use crate::fluid::sampling::FluidSample;
 use crate::fluid::state::FluidState;
 use crate::mesh::Mesh;
-use crate::particles::{Particle, ParticleState};
+use crate::particles::ParticleState;
 use crate::solver::{SolverError, StepReport};
 use crate::walls::state::WallState;
 
@@ -18,23 +20,37 @@ pub struct FluidStepOutcome {
 }
 
 /// The particles' load on the fluid, per particle in the order of
-/// [`ParticleState::particles`]: what the mapping spreads to the cells (spec fluid-dem-model.md
-/// §6, §8.4). One-way coupling passes none.
+/// [`ParticleState::particles`], averaged over the step's DEM sub-steps: what the mapping
+/// spreads to the cells (spec fluid-dem-model.md §5.10, §6, §8.4). One-way coupling passes none.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ParticleLoad {
     /// Particle volumes [m³].
     pub volume: Vec<f64>,
-    /// Implicit drag coefficient K_p of the semi-implicit split [kg/s].
+    /// Implicit drag coefficient K_n of the semi-implicit split [kg/s] (≥ 0): the fluid
+    /// receives −K_n u_c, implicit in its velocity (§8.4, sign corrected).
     pub implicit_drag: Vec<f64>,
-    /// Explicit part of the fluid force on the particle [N].
+    /// Explicit part of the particle's force on the fluid, K_n u_p − (F_AM + F_pg) [N]
+    /// (§8.4), plus −V_p(ρ_p − ρ_c) g with the literal feedback of §2.6.
     pub explicit_force: Vec<[f64; 3]>,
+    /// Drag on the particle F_d [N] (output).
+    pub drag: Vec<[f64; 3]>,
+    /// Slip Reynolds number |u_c|p − u_p| d_p/ν at the end of the step (output, T3.42).
+    pub slip_reynolds: Vec<f64>,
+}
+
+impl ParticleLoad {
+    /// A load of `n` particles with every entry zero.
+    pub fn zeros(n: usize) -> Self {
+        Self { volume: vec![0.0; n], implicit_drag: vec![0.0; n], explicit_force: vec![[0.0; 3]; n], drag: vec![[0.0; 3]; n], slip_reynolds: vec![0.0; n] }
+    }
 }
 
 /// A finite-volume fluid solver, advanced one step at a time by the driver.
 ///
 /// The phase owns its mesh and its work arrays, never the state or the clock: it is handed the
-/// fluid state, the step's [`StepContext`] (Δt, time coefficients, rotor pose at tⁿ⁺¹) and the
-/// particle load.
+/// fluid state (whose `alpha` the driver has set to this step's fluid fraction), the step's
+/// [`StepContext`] (Δt, time coefficients, rotor pose at tⁿ⁺¹) and the particle load mapped to
+/// the cells.
 pub trait FluidPhase {
     /// `"reference"` or `"fast"`.
     fn name(&self) -> &'static str;
@@ -43,16 +59,11 @@ pub trait FluidPhase {
     /// Turns the rotor zone to `pose` without solving (start-up and restarts).
     fn place_rotor(&mut self, pose: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError>;
     /// Advances `fluid` from tⁿ to tⁿ⁺¹ and appends its diagnostics to `report`.
-    fn advance(
-        &mut self,
-        ctx: &StepContext,
-        fluid: &mut FluidState,
-        load: Option<&ParticleLoad>,
-        report: &mut StepReport,
-    ) -> Result<FluidStepOutcome, SolverError>;
-    /// The fluid each particle sees, in particle order, appended to `out` (`None` for a
-    /// particle outside the mesh).
-    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>);
+    fn advance(&mut self, ctx: &StepContext, fluid: &mut FluidState, load: Option<&CellLoad>, report: &mut StepReport)
+        -> Result<FluidStepOutcome, SolverError>;
+    /// What particles sample the fluid from: the mesh at its current pose, the rotor zone, the
+    /// fluid's properties and Δt of the last step, with `fluid`.
+    fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a>;
     /// Largest Courant number per second of step of the stored state, for the first adaptive
     /// step (flux relative to the mesh at the current pose).
     fn courant_rate(&self, fluid: &FluidState) -> f64;
@@ -90,13 +101,13 @@ impl<T: FluidPhase + ?Sized> FluidPhase for Box<T> {
         &mut self,
         ctx: &StepContext,
         fluid: &mut FluidState,
-        load: Option<&ParticleLoad>,
+        load: Option<&CellLoad>,
         report: &mut StepReport,
     ) -> Result<FluidStepOutcome, SolverError> {
         (**self).advance(ctx, fluid, load, report)
     }
-    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
-        (**self).sample(fluid, particles, out)
+    fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
+        (**self).sample_source(fluid)
     }
     fn courant_rate(&self, fluid: &FluidState) -> f64 {
         (**self).courant_rate(fluid)
@@ -132,10 +143,10 @@ impl FluidPhase for Absent {
     fn place_rotor(&mut self, _: Option<&super::rotor_pose::RotorPose>) -> Result<(), SolverError> {
         match *self {}
     }
-    fn advance(&mut self, _: &StepContext, _: &mut FluidState, _: Option<&ParticleLoad>, _: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+    fn advance(&mut self, _: &StepContext, _: &mut FluidState, _: Option<&CellLoad>, _: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
         match *self {}
     }
-    fn sample(&self, _: &FluidState, _: &[Particle], _: &mut Vec<Option<FluidAtParticle>>) {
+    fn sample_source<'a>(&'a self, _: &'a FluidState) -> FluidSample<'a> {
         match *self {}
     }
     fn courant_rate(&self, _: &FluidState) -> f64 {

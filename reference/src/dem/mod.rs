@@ -12,7 +12,8 @@ use std::collections::BTreeMap;
 
 use spillage_model::case::Case;
 use spillage_model::closure::collision_time::{collision_time, substeps};
-use spillage_model::closure::drag::{fluid_force_update, DragLaw, FluidAtParticle};
+use spillage_model::closure::drag::{fluid_force_step, DragLaw, FluidAtParticle};
+use spillage_model::coupling::Feedback;
 use spillage_model::particles::settings::ParticlesSection;
 use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{initial_state, ContactRecord, Particle, ParticleState, Partner};
@@ -39,6 +40,11 @@ pub struct ReferenceDem {
     /// Fluid density and viscosity for the wet restitution (T3.103), if wet.
     wet_fluid: Option<(f64, f64)>,
     drag_law: DragLaw,
+    /// With `[coupling]`: which forces the fluid receives; the step then returns its load.
+    feedback: Option<Feedback>,
+    /// The load being summed over the sub-steps of a step (time integrals, divided by Δt at
+    /// the end of the step).
+    load: ParticleLoad,
     /// Contact history being worked on during a step, keyed by (particle id, partner); several
     /// records per key only for a particle touching one wall in several places (a concave
     /// corner). Rebuilt from the state at the start of every step.
@@ -75,12 +81,19 @@ impl ReferenceDem {
             (None, Some(a)) if a.wet_restitution => Some((a.density, a.kinematic_viscosity)),
             _ => None,
         };
-        let drag_law = section.ambient.as_ref().map(|a| a.drag).unwrap_or_default();
+        let drag_law = match (&case.coupling, &section.ambient) {
+            (Some(c), _) => c.drag,
+            (None, Some(a)) => a.drag,
+            (None, None) => DragLaw::default(),
+        };
+        let feedback = case.coupling.as_ref().map(|c| c.feedback);
         Ok(Self {
             gravity: Vec3::from(case.physics.gravity),
             wall_meshes,
             wet_fluid,
             drag_law,
+            feedback,
+            load: ParticleLoad::default(),
             history: BTreeMap::new(),
             samples: Vec::new(),
             materials,
@@ -156,23 +169,48 @@ impl ReferenceDem {
         rotor_end: Option<&RotorPose>,
         fluid: FluidSampler<'_>,
     ) {
-        let gravity = self.gravity;
-        let law = self.drag_law;
         for (i, p) in particles.particles.iter_mut().enumerate() {
             p.velocity += 0.5 * dt * p.contact_force / p.mass();
             p.spin += 0.5 * dt * p.contact_torque / p.moment_of_inertia();
             let f = fluid(i, p);
-            p.velocity = fluid_force_update(law, p.velocity, p.diameter, p.density, f.as_ref(), gravity, 0.5 * dt);
+            self.fluid_forces(i, p, f.as_ref(), 0.5 * dt);
             p.position += dt * p.velocity;
         }
         walls.place(end_time, rotor_end);
         self.evaluate_contacts(particles, walls, end_time, dt);
         for (i, p) in particles.particles.iter_mut().enumerate() {
             let f = fluid(i, p);
-            p.velocity = fluid_force_update(law, p.velocity, p.diameter, p.density, f.as_ref(), gravity, 0.5 * dt);
+            self.fluid_forces(i, p, f.as_ref(), 0.5 * dt);
             p.velocity += 0.5 * dt * p.contact_force / p.mass();
             p.spin += 0.5 * dt * p.contact_torque / p.moment_of_inertia();
         }
+    }
+
+    /// The implicit fluid-force update of particle `i` over `dt` (§5.10), and, two-way coupled,
+    /// its contribution to the step's load: ∫K dt and ∫(K u_p − F_AM − F_pg) dt (§8.4), with
+    /// −∫V_p(ρ_p − ρ_c) g dt more for the literal feedback (§2.6).
+    fn fluid_forces(&mut self, i: usize, p: &mut Particle, fluid: Option<&FluidAtParticle>, dt: f64) {
+        let Some(fluid) = fluid else {
+            p.velocity += dt * self.gravity;
+            return;
+        };
+        let step = fluid_force_step(self.drag_law, p.velocity, p.diameter, p.density, fluid, self.gravity, dt);
+        p.velocity = step.velocity;
+        let Some(feedback) = self.feedback else { return };
+        let load = &mut self.load;
+        if i >= load.volume.len() {
+            return;
+        }
+        let mut explicit = step.explicit_feedback();
+        if feedback == Feedback::Literal {
+            explicit -= p.volume() * (p.density - fluid.density) * self.gravity;
+        }
+        load.implicit_drag[i] += step.drag_factor * dt;
+        for k in 0..3 {
+            load.explicit_force[i][k] += explicit[k] * dt;
+            load.drag[i][k] += step.drag[k] * dt;
+        }
+        load.slip_reynolds[i] = step.slip_reynolds;
     }
 
     /// Contact forces and torques at the current positions (fluid-dem-model.md §7.8).
@@ -206,6 +244,7 @@ impl ParticlePhase for ReferenceDem {
             return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
         }
         let sampler = |i: usize, _: &Particle| fluid[i];
+        self.load = ParticleLoad::zeros(if self.feedback.is_some() { particles.particles.len() } else { 0 });
         for k in 0..n {
             let elapsed = (k + 1) as f64 * dt_s;
             // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose), so
@@ -221,6 +260,19 @@ impl ParticlePhase for ReferenceDem {
             ("particle_kinetic_energy", particles.particles.iter().map(|p| p.kinetic_energy()).sum()),
             ("max_overlap_ratio", max_overlap_ratio),
         ]);
-        Ok(None)
+        if self.feedback.is_none() {
+            return Ok(None);
+        }
+        // time averages over the step (§5.10: "accumulate the time average over the sub-steps")
+        let mut load = std::mem::take(&mut self.load);
+        for (i, p) in particles.particles.iter().enumerate() {
+            load.volume[i] = p.volume();
+            load.implicit_drag[i] /= ctx.dt;
+            for k in 0..3 {
+                load.explicit_force[i][k] /= ctx.dt;
+                load.drag[i][k] /= ctx.dt;
+            }
+        }
+        Ok(Some(load))
     }
 }

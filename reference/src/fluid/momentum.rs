@@ -4,12 +4,16 @@
 //!   [c₀ αⁿu V + c₁ αᵒuᵒ V + c₂ αᵒᵒuᵒᵒ V]/Δt + Σ_f α_f u_f (φ_f − φ_mesh,f)
 //!     = Σ_f (αν)_f (∇u)_f·S_f + Σ_f (αν)_f [(∇u)_fᵀ − ⅔ tr(∇u)_f I]·S_f + g V − V ∇P.
 //!
+//! With particles (spec §8.4, §8.5) the cell load adds +C_j/ρ to the diagonal (the implicit
+//! drag −C_j u_j, sign corrected) and F_j/ρ to the source (the explicit particle force).
+//!
 //! Convection is implicit with the latest flux φ* and the scheme's face weight; the Laplacian
 //! is implicit with the over-relaxed non-orthogonal split and an explicit correction; the
 //! transpose and dilatation parts are explicit from the latest iterate (spec §8.2). The pressure
 //! gradient is *not* part of the system: it is added to the right-hand side of the predictor
 //! and left out of H (spec T4.24).
 
+use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
 
@@ -43,6 +47,10 @@ pub struct StepInputs<'a> {
     /// −(1/Δt)[c₁(α_fᵒ φᵒ − (αᵒuᵒ)_f·S) + c₂(α_fᵒᵒ φᵒᵒ − (αᵒᵒuᵒᵒ)_f·S)]; zero on moved and
     /// overlap links and with `ddt_flux_correction = false`.
     pub ddt_flux_correction: &'a [f64],
+    /// The particle load mapped to the cells (two-way coupling) and the fluid density that
+    /// turns it kinematic.
+    pub load: Option<&'a CellLoad>,
+    pub density: f64,
 }
 
 impl StepInputs<'_> {
@@ -50,6 +58,15 @@ impl StepInputs<'_> {
     pub fn alpha_rate_volume(&self, cell: usize) -> f64 {
         let [c0, c1, c2] = self.time_coefficients;
         (c0 * self.alpha[cell] + c1 * self.alpha_old[cell] + c2 * self.alpha_old_old[cell]) * self.volumes[cell] / self.dt
+    }
+
+    /// ∂α/∂t · V as the pressure equation takes it: zero in the cells the interface mask
+    /// covers (T4.54, §6.7).
+    pub fn alpha_rate_volume_in_pressure(&self, cell: usize) -> f64 {
+        match self.load {
+            Some(load) if load.masked[cell] => 0.0,
+            _ => self.alpha_rate_volume(cell),
+        }
     }
 }
 
@@ -97,6 +114,10 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         m.add_diagonal(c, c0 * inputs.alpha[c] * v / inputs.dt);
         source[c] -= (inputs.u_old[c] * (c1 * inputs.alpha_old[c]) + inputs.u_old_old[c] * (c2 * inputs.alpha_old_old[c])) * (v / inputs.dt);
         source[c] += inputs.body_force * v;
+        if let Some(load) = inputs.load {
+            m.add_diagonal(c, load.implicit_drag[c] / inputs.density);
+            source[c] += load.explicit_force[c] / inputs.density;
+        }
     }
 
     for (l, link) in geo.links.iter().enumerate() {

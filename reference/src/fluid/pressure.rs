@@ -137,7 +137,7 @@ pub fn correct(inputs: &StepInputs, system: &MomentumSystem, prescribed: &[Optio
             }
         }
         for (c, r) in rhs.iter_mut().enumerate() {
-            *r -= inputs.alpha_rate_volume(c);
+            *r -= inputs.alpha_rate_volume_in_pressure(c);
         }
         if !inputs.conditions.has_fixed_pressure {
             // reference level P = 0 in cell 0 (OpenFOAM setReference): exact for a compatible

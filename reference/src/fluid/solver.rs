@@ -1,16 +1,15 @@
 //! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
 
 use spillage_model::case::Case;
-use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::initial::prepare_fluid_state;
-use spillage_model::fluid::sampling::{sample_containing_cell, FluidSample};
+use spillage_model::fluid::sampling::FluidSample;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
-use spillage_model::particles::Particle;
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
-use spillage_model::step::{FluidPhase, FluidStepOutcome, ParticleLoad, RotorPose, StepContext};
+use spillage_model::step::{FluidPhase, FluidStepOutcome, RotorPose, StepContext};
 
 use super::boundary::{self, Conditions};
 use super::diagnostics;
@@ -21,8 +20,8 @@ use super::momentum::{self, StepInputs};
 use super::pressure::{self, CorrectorFields};
 
 /// The reference fluid solver, a fluid phase of the step driver
-/// ([`spillage_model::step::Coupled`]); single-phase until the coupling supplies α_c and
-/// particle forces.
+/// ([`spillage_model::step::Coupled`]): volume-averaged, with α_c from the state and the
+/// particle load from the driver (spec §8.4, §8.5).
 pub struct ReferenceFluid {
     mesh: Mesh,
     conditions: Conditions,
@@ -101,7 +100,13 @@ impl ReferenceFluid {
     }
 
     /// One PIMPLE step from tⁿ to tⁿ⁺¹ (module doc, steps 2–5).
-    fn advance_fluid(&mut self, ctx: &StepContext, fluid_state: &mut FluidState, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
+    fn advance_fluid(
+        &mut self,
+        ctx: &StepContext,
+        fluid_state: &mut FluidState,
+        load: Option<&CellLoad>,
+        report: &mut StepReport,
+    ) -> Result<FluidStepOutcome, SolverError> {
         let dt = ctx.dt;
         let time_coefficients = ctx.time_coefficients;
         self.place_rotor(ctx.rotor.as_ref())?;
@@ -133,6 +138,8 @@ impl ReferenceFluid {
             body_force: self.body_force,
             boundary_velocity: &boundary_velocity,
             ddt_flux_correction: &ddt_flux_correction,
+            load,
+            density: self.density,
         };
 
         // starting values (step 3 of the algorithm)
@@ -309,19 +316,14 @@ impl FluidPhase for ReferenceFluid {
         &mut self,
         ctx: &StepContext,
         fluid: &mut FluidState,
-        load: Option<&ParticleLoad>,
+        load: Option<&CellLoad>,
         report: &mut StepReport,
     ) -> Result<FluidStepOutcome, SolverError> {
-        if load.is_some() {
-            return Err(SolverError::Unsupported("two-way coupling (a particle load on the fluid) is not implemented yet".into()));
-        }
-        self.advance_fluid(ctx, fluid, report)
+        self.advance_fluid(ctx, fluid, load, report)
     }
 
-    fn sample(&self, fluid: &FluidState, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
-        let source =
-            FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old };
-        sample_containing_cell(&source, particles, out);
+    fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
+        FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old }
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every

@@ -1,0 +1,18 @@
+//! Volume-averaged two-way coupling between the particles and the fluid (spec
+//! fluid-dem-model.md §2, §6, §8.4): the mapping of particle volume and forces to the cells and
+//! of the fluid back to the particles.
+//!
+//! - [`settings`]: `[coupling]` (method, distance factor γ, feedback, interface mask);
+//! - [`kernel`]: the Gaussian φ and quadratic ψ kernels, ghosts and renormalisation (§6.3, §6.5, §6.7);
+//! - [`diffusion`]: the diffusion method's smoothing step (§6.4);
+//! - [`mapping`]: [`ParticleMeshMap`], the selected method both ways, and the [`CellLoad`] it makes;
+//! - [`cell_search`]: cells within a radius of a point.
+
+pub mod cell_search;
+pub mod diffusion;
+pub mod kernel;
+pub mod mapping;
+pub mod settings;
+
+pub use mapping::{CellLoad, ParticleMeshMap};
+pub use settings::{CouplingSection, Feedback, MappingMethod};

@@ -1,0 +1,81 @@
+//! `[coupling]`: how particles and the fluid exchange volume and momentum (spec
+//! fluid-dem-model.md §2.6, §6). Without the section a case with a fluid and particles is
+//! one-way coupled: the particles feel the fluid, the fluid does not feel them.
+
+use serde::Deserialize;
+
+use crate::case::error::{in_range, positive, FieldError};
+use crate::closure::drag::DragLaw;
+
+/// How particle volume and forces reach the cells, and how the fluid is sampled back (§6.8).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MappingMethod {
+    /// Host cell only (T3.69); the particle sees its own cell. Fails once V_p/V_cell ≳ 0.1 (§6.1).
+    Centroid,
+    /// Gaussian φ out, quadratic ψ back, σ = γ d_p, renormalised, wall ghosts, truncated at the
+    /// sliding interface (T3.74–T3.86, T4.45–T4.54).
+    Kernel,
+    /// Centroid deposit diffused over T = Δt with D = (γ d_p)²/(2Δt) (T3.78–T3.81, T3.87, T4.46).
+    Diffusion,
+}
+
+/// Which particle forces the fluid receives (§2.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Feedback {
+    /// −(F_d + F_AM + F_pg): gravity and buoyancy are not fed back, so a suspension at rest
+    /// carries its submerged weight through the fluid pressure (§2.6 [R], OpenFOAM's choice).
+    #[default]
+    DragAndFluidAcceleration,
+    /// −(F_d + F_AM + F_pg + F_g + F_b), T3.2 as printed: kept to show that it fails the
+    /// hydrostatic suspension (§12 U-33).
+    Literal,
+}
+
+fn default_distance_factor() -> f64 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+fn default_min_fluid_fraction() -> f64 {
+    0.05
+}
+
+/// `[coupling]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CouplingSection {
+    /// `"centroid"`, `"kernel"` or `"diffusion"`.
+    pub method: MappingMethod,
+    /// Distance factor γ: kernel width σ = γ d_p (T4.45). The thesis' cutter heads use 1.
+    #[serde(default = "default_distance_factor")]
+    pub distance_factor: f64,
+    #[serde(default)]
+    pub feedback: Feedback,
+    /// Leave ∂α_c/∂t out of the pressure equation within the kernel support 3σ of a sliding
+    /// interface (T4.54, §6.7). Default on, as in the thesis.
+    #[serde(default = "yes")]
+    pub interface_mask: bool,
+    /// Single-sphere drag law (`"brown_lawler"`, the thesis' choice; `"schiller_naumann"`;
+    /// `"stokes"`).
+    #[serde(default)]
+    pub drag: DragLaw,
+    /// Lower bound of α_c = 1 − α_p in the fluid equations [R, OpenFOAM DPMFoam's alphacMin]:
+    /// the centroid method maps α_p > 1 into cells smaller than a particle (§6.1). Every step
+    /// reports how many cells were held at the bound (`alpha_c_clamped` in series.csv).
+    #[serde(default = "default_min_fluid_fraction")]
+    pub min_fluid_fraction: f64,
+}
+
+impl CouplingSection {
+    pub fn validate(&self) -> Result<(), FieldError> {
+        positive("coupling.distance_factor", self.distance_factor, "(σ = γ d_p)")?;
+        in_range("coupling.distance_factor", self.distance_factor, 0.0, 20.0, "(σ = γ d_p)")?;
+        if !(self.min_fluid_fraction.is_finite() && self.min_fluid_fraction > 0.0 && self.min_fluid_fraction < 1.0) {
+            return Err(FieldError::new("coupling.min_fluid_fraction", self.min_fluid_fraction, "a fluid fraction in (0, 1)"));
+        }
+        Ok(())
+    }
+}
