@@ -26,31 +26,6 @@ fn case(name: &str) -> Case {
     Case::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Largest difference over all fields, each relative to a physical scale of its field: the
-/// field's own maximum, except where a field can be identically zero in exact arithmetic
-/// (pressure in a free stream or a body-force-driven periodic channel, the cumulative
-/// continuity error, which is round-off): pressures are measured against max|u|² (kinematic
-/// dynamic pressure) and the continuity volume against Δt·max|φ|.
-fn worst_scaled(reference: &State, d: &spillage_model::state_diff::StateDiff) -> f64 {
-    assert!(d.mismatches.is_empty(), "structure differs: {:?}", d.mismatches);
-    let f = reference.fluid.as_ref().expect("fluid state");
-    let u_max = f.velocity.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, x| m.max(x.abs()));
-    let flux_max = f.flux.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut worst: f64 = 0.0;
-    for (name, fd) in &d.fields {
-        let scaled = if name.contains("pressure") {
-            let own = fd.max_abs / fd.max_rel_to_scale.max(1e-300);
-            fd.max_abs / own.max(u_max * u_max).max(1e-300)
-        } else if name.contains("cumulative_continuity_error") {
-            fd.max_abs / (reference.dt * flux_max).max(1e-300)
-        } else {
-            fd.max_rel_to_scale
-        };
-        worst = worst.max(if fd.max_abs == 0.0 { 0.0 } else { scaled });
-    }
-    worst
-}
-
 fn compare(name: &str) {
     compare_case(name, case(name));
 }
@@ -71,7 +46,7 @@ fn compare_case(name: &str, c: Case) {
         let names_f: Vec<_> = f.values.iter().map(|v| v.0).collect();
         assert_eq!(names_r, names_f, "{name}: StepReport names differ");
         let d = diff(reference.state(), fast.state());
-        let w = worst_scaled(reference.state(), &d);
+        let w = spillage::verify::equivalence_error(reference.state(), &d);
         if w > worst {
             worst = w;
             worst_report = format!("step {step}:\n{}", d.report());

@@ -4,6 +4,7 @@
 //! procedure that compares the run with the exact answer lives in the module of its model
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
+pub mod coupling;
 pub mod dem;
 pub mod fluid;
 
@@ -87,6 +88,9 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
     if fluid::CHECKS.contains(&check) {
         return fluid::run_check(case, check, full);
     }
+    if coupling::CHECKS.contains(&check) {
+        return coupling::run_check(case, check, full);
+    }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
@@ -95,6 +99,7 @@ pub fn known_checks() -> Vec<&'static str> {
     let mut checks = Vec::new();
     checks.extend_from_slice(dem::CHECKS);
     checks.extend_from_slice(fluid::CHECKS);
+    checks.extend_from_slice(coupling::CHECKS);
     checks
 }
 
@@ -118,3 +123,28 @@ pub fn ladder(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 pub mod dem_rig;
+
+/// Largest difference over all fields, each relative to a physical scale of its field: the
+/// field's own maximum, except where a field can be identically zero in exact arithmetic
+/// (pressure in a free stream or a body-force-driven periodic channel, the cumulative
+/// continuity error, which is round-off): pressures are measured against max|u|² (kinematic
+/// dynamic pressure) and the continuity volume against Δt·max|φ|.
+pub fn equivalence_error(reference: &spillage_model::state::State, d: &spillage_model::state_diff::StateDiff) -> f64 {
+    assert!(d.mismatches.is_empty(), "structure differs: {:?}", d.mismatches);
+    let f = reference.fluid.as_ref().expect("fluid state");
+    let u_max = f.velocity.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, x| m.max(x.abs()));
+    let flux_max = f.flux.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut worst: f64 = 0.0;
+    for (name, fd) in &d.fields {
+        let scaled = if name.contains("pressure") {
+            let own = fd.max_abs / fd.max_rel_to_scale.max(1e-300);
+            fd.max_abs / own.max(u_max * u_max).max(1e-300)
+        } else if name.contains("cumulative_continuity_error") {
+            fd.max_abs / (reference.dt * flux_max).max(1e-300)
+        } else {
+            fd.max_rel_to_scale
+        };
+        worst = worst.max(if fd.max_abs == 0.0 { 0.0 } else { scaled });
+    }
+    worst
+}

@@ -1,0 +1,373 @@
+//! Verification of the two-way coupling (issue 13; particle-verification.md §2, §4;
+//! fluid-dem-model.md §12 U-33; wear-model.md §12.2): settling of one sphere (P1) for every
+//! mapping and mesh, Stokes settling and its time-step order, hindered settling of a cloud (P3)
+//! against the Di Felice closure (Table 6.3), and the pressure a suspension carries.
+//!
+//! The runs take the fast fluid with the reference DEM: `tests/coupling_verification.rs` holds
+//! the fast fluid to the reference fluid step by step on these cases (≤ 1e-8), and the
+//! reference fluid would take ~10× longer on the finer levels. Reference answers come from the
+//! analytic crate, which solves the same particle equation independently.
+
+use anyhow::{anyhow, bail, Context, Result};
+use spillage_analytic::drag_laws::DragLaw as AnalyticDrag;
+use spillage_analytic::hindered_settling::{cloud_settling_velocity, CloudReconstruction};
+use spillage_analytic::settling::SettlingSphere;
+use spillage_fast::fluid::FastFluid;
+use spillage_model::case::{Case, MeshSection};
+use spillage_model::coupling::{Feedback, MappingMethod};
+use spillage_model::particles::settings::{BoxRegion, GroupSection};
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_model::step::Coupled;
+use spillage_reference::dem::ReferenceDem;
+
+use super::CheckRow;
+
+/// Checks implemented here.
+pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic"];
+
+pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> {
+    match check {
+        "coupling_settling" => settling(case, full),
+        "coupling_stokes" => stokes(case),
+        "coupling_hindered" => hindered(case, full),
+        "coupling_hydrostatic" => hydrostatic(case),
+        other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
+    }
+}
+
+/// The label of the solver pair these checks run.
+const SOLVER: &str = "fast fluid + reference particles";
+
+// ---------------------------------------------------------------------------------------------
+// parameters and runs
+
+fn params(case: &Case) -> Result<&toml::Table> {
+    case.verify.as_ref().map(|v| &v.params).ok_or_else(|| anyhow!("{}: no [verify] section", case.path.display()))
+}
+
+fn numbers(case: &Case, key: &str) -> Result<Vec<f64>> {
+    let value = params(case)?.get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
+    let array = value.as_array().ok_or_else(|| anyhow!("{}: verify.params.{key} must be a list of numbers", case.path.display()))?;
+    array.iter().map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("verify.params.{key}: {v} is not a number"))).collect()
+}
+
+fn number(case: &Case, key: &str) -> Result<f64> {
+    let v = params(case)?.get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("verify.params.{key} must be a number"))
+}
+
+fn strings(case: &Case, key: &str) -> Result<Vec<String>> {
+    let value = params(case)?.get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
+    let array = value.as_array().ok_or_else(|| anyhow!("verify.params.{key} must be a list of strings"))?;
+    array.iter().map(|v| v.as_str().map(str::to_string).ok_or_else(|| anyhow!("verify.params.{key}: {v} is not a string"))).collect()
+}
+
+fn method(name: &str) -> Result<MappingMethod> {
+    match name {
+        "centroid" => Ok(MappingMethod::Centroid),
+        "kernel" => Ok(MappingMethod::Kernel),
+        "diffusion" => Ok(MappingMethod::Diffusion),
+        other => bail!("mapping method `{other}`: expected centroid, kernel or diffusion"),
+    }
+}
+
+/// `"kernel:1"` → (kernel, γ = 1).
+fn parse_mapping(mapping: &str) -> Result<(&str, f64)> {
+    let (m, gamma) = mapping.split_once(':').ok_or_else(|| anyhow!("verify.params mappings: `{mapping}`: expected method:γ, e.g. kernel:1"))?;
+    let gamma: f64 = gamma.parse().map_err(|_| anyhow!("verify.params mappings: `{mapping}`: γ is not a number"))?;
+    Ok((m, gamma))
+}
+
+/// What a coupled run recorded per step.
+struct Trace {
+    time: Vec<f64>,
+    /// Median settling velocity (along gravity) of the particles in the domain.
+    settling: Vec<f64>,
+    solver: Coupled<FastFluid, ReferenceDem>,
+}
+
+/// Runs `case` with the fast fluid and the reference DEM to its end time.
+fn run(case: &Case) -> Result<Trace> {
+    let mesh = spillage_model::mesh::build(case.mesh.as_ref().ok_or_else(|| anyhow!("the case has no [mesh]"))?)?;
+    let mut state = State::default();
+    let fluid = FastFluid::new(case, mesh, &mut state)?;
+    let dem = ReferenceDem::new(case, &mut state)?;
+    let solver = Coupled::new(case, state, Some(fluid), Some(dem))?;
+    let dt = case.time.dt.ok_or_else(|| anyhow!("coupling checks need a fixed [time] dt"))?;
+    let end = case.time.end_time.ok_or_else(|| anyhow!("coupling checks need [time] end_time"))?;
+    let steps = (end / dt - 1e-9).ceil() as u64;
+    let mut trace = Trace { time: Vec::new(), settling: Vec::new(), solver };
+    for _ in 0..steps {
+        let report = trace.solver.step().with_context(|| format!("case {}", case.case.name))?;
+        let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        trace.time.push(trace.solver.state().time);
+        trace.settling.push(value("settling_velocity").unwrap_or(f64::NAN));
+    }
+    Ok(trace)
+}
+
+fn set_box(case: &mut Case, max: [f64; 3], cells: [usize; 3]) -> Result<()> {
+    match case.mesh.as_mut() {
+        Some(MeshSection::Box { max: m, cells: c, .. }) => {
+            *m = max;
+            *c = cells;
+            Ok(())
+        }
+        _ => bail!("{}: coupling checks need a box mesh", case.path.display()),
+    }
+}
+
+fn box_size(case: &Case) -> Result<([f64; 3], [usize; 3])> {
+    match &case.mesh {
+        Some(MeshSection::Box { max, cells, .. }) => Ok((*max, *cells)),
+        _ => bail!("{}: coupling checks need a box mesh", case.path.display()),
+    }
+}
+
+fn set_mapping(case: &mut Case, method: MappingMethod, gamma: f64) -> Result<()> {
+    let c = case.coupling.as_mut().ok_or_else(|| anyhow!("{}: needs a [coupling] section", case.path.display()))?;
+    c.method = method;
+    c.distance_factor = gamma;
+    Ok(())
+}
+
+/// The single sphere of a settling case, from its first particle and the fluid.
+fn sphere(case: &Case, added_mass: f64) -> Result<SettlingSphere> {
+    let fluid = case.fluid.as_ref().ok_or_else(|| anyhow!("needs [fluid]"))?;
+    let section = case.particles.as_ref().ok_or_else(|| anyhow!("needs [particles]"))?;
+    let density = section.materials.first().ok_or_else(|| anyhow!("needs a material"))?.density;
+    let diameter = match section.groups.first() {
+        Some(GroupSection::List { diameter, .. } | GroupSection::Lattice { diameter, .. }) => diameter.largest(),
+        _ => bail!("needs a list or lattice particle group"),
+    };
+    let g = case.physics.gravity;
+    let gravity = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    Ok(SettlingSphere::new(diameter, density, fluid.density, fluid.kinematic_viscosity, gravity, added_mass)?)
+}
+
+// ---------------------------------------------------------------------------------------------
+// P1: one settling sphere
+
+/// Terminal velocity (at the end time) and the largest transient deviation, both relative to
+/// the analytic terminal velocity.
+fn settling_errors(case: &Case) -> Result<(f64, f64)> {
+    let sphere = sphere(case, 0.5)?;
+    let terminal = sphere.terminal_velocity(AnalyticDrag::BrownLawler)?.velocity;
+    let trace = run(case)?;
+    let exact = sphere.transient(AnalyticDrag::BrownLawler, &trace.time)?;
+    let transient = trace.settling.iter().zip(&exact).map(|(u, e)| (u - e.velocity).abs()).fold(0.0, f64::max) / terminal;
+    let last = *trace.settling.last().ok_or_else(|| anyhow!("no steps"))?;
+    Ok(((last - terminal) / terminal, transient))
+}
+
+fn settling(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let widths = numbers(base, if full { "full_widths" } else { "widths" })?;
+    let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
+    let (max, cells) = box_size(base)?;
+    let d = sphere(base, 0.5)?.diameter;
+    let mut rows = Vec::new();
+    for &w in &widths {
+        let nx = w as usize;
+        let ny = (nx as f64 * max[1] / max[0]).round() as usize;
+        let ratio = d / (max[0] / nx as f64);
+        for mapping in &mappings {
+            let (m, gamma) = parse_mapping(mapping)?;
+            let mut case = base.clone();
+            set_box(&mut case, max, [nx, ny, cells[2]])?;
+            set_mapping(&mut case, method(m)?, gamma)?;
+            let (terminal, transient) = settling_errors(&case)?;
+            // spec acceptance (issue 13): 1 % of u_t at the end, 2 % of u_t over the transient
+            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: terminal velocity relative error"), SOLVER, terminal, 0.01));
+            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: max |u − u_ode| / u_t"), SOLVER, transient, 0.02));
+        }
+    }
+    // the centroid method's documented failure (§6.1): its terminal velocity misses by more than
+    // `centroid_failure_above` at d_p/Δx = 1.5
+    let nx = number(base, "centroid_width")? as usize;
+    let ny = (nx as f64 * max[1] / max[0]).round() as usize;
+    let mut case = base.clone();
+    set_box(&mut case, max, [nx, ny, cells[2]])?;
+    set_mapping(&mut case, MappingMethod::Centroid, 1.0)?;
+    let (terminal, _) = settling_errors(&case)?;
+    let ratio = d / (max[0] / nx as f64);
+    rows.push(CheckRow::at_least(
+        name,
+        format!("centroid d/dx={ratio:.2}: |terminal velocity error| (must fail)"),
+        SOLVER,
+        terminal.abs(),
+        number(base, "centroid_failure_above")?,
+    ));
+    Ok(rows)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stokes settling and its order in Δt
+
+/// Largest |u − u_exact| over the run with step `dt` (the DEM sub-step follows it).
+fn stokes_error(base: &Case, dt: f64) -> Result<f64> {
+    let mut case = base.clone();
+    case.time.dt = Some(dt);
+    if let Some(p) = case.particles.as_mut() {
+        p.substep = Some(dt);
+    }
+    let sphere = sphere(&case, 0.5)?;
+    let trace = run(&case)?;
+    let mut worst: f64 = 0.0;
+    for (t, u) in trace.time.iter().zip(&trace.settling) {
+        worst = worst.max((u - sphere.stokes_transient(*t)?.velocity).abs());
+    }
+    Ok(worst)
+}
+
+fn stokes(case: &Case) -> Result<Vec<CheckRow>> {
+    let name = case.case.name.as_str();
+    let steps = numbers(case, "time_steps")?;
+    let bound = number(case, "source_largest_error")?;
+    let sphere = sphere(case, 0.5)?;
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    for &dt in &steps {
+        let e = stokes_error(case, dt)?;
+        errors.push(e);
+        rows.push(CheckRow::at_most(name, format!("largest |u − u_exact| [m/s], Δt = {dt}"), SOLVER, e, bound));
+    }
+    // a terminal velocity that is right to 0.1 % (the run ends at 9.4 τ, e^−9.4 = 8e-5 below it)
+    let trace_end = sphere.stokes_transient(case.time.end_time.unwrap_or(0.0))?.velocity;
+    rows.push(CheckRow::relative(name, "analytic u(t_end) / Stokes terminal velocity", "analytic", trace_end, sphere.stokes_terminal_velocity(), 1e-3));
+    // first-order implicit drag update: the observed order of the largest error ≥ 0.9 per halving
+    for k in 1..errors.len() {
+        let order = (errors[k - 1] / errors[k]).log2();
+        rows.push(CheckRow::at_least(name, format!("observed order Δt {} → {}", steps[k - 1], steps[k]), SOLVER, order, 0.9));
+    }
+    Ok(rows)
+}
+
+// ---------------------------------------------------------------------------------------------
+// P3: hindered settling of a cloud, and the pressure a suspension carries
+
+/// A full-width cubic lattice cloud of fraction `alpha_p` in a one-cell-thick column: the
+/// column width and thickness are whole numbers of lattice spacings s = d (π/(6α_p))^{1/3}
+/// (so the fraction is exact), the cells are `cell` wide, the cloud spans `cloud` in y.
+fn cloud_case(base: &Case, alpha_p: f64, cell: f64, width: f64, cloud: [f64; 2]) -> Result<(Case, f64)> {
+    let mut case = base.clone();
+    let d = sphere(base, 0.5)?.diameter;
+    let s = d * (std::f64::consts::PI / (6.0 * alpha_p)).cbrt();
+    let across = (width / s).round().max(1.0);
+    let layers = (0.03 / s).round().max(1.0);
+    let (max, _) = box_size(base)?;
+    let (w, t) = (across * s, layers * s);
+    let nx = (w / cell).round().max(1.0) as usize;
+    let ny = (max[1] / cell).round() as usize;
+    set_box(&mut case, [w, max[1], t], [nx, ny, 1])?;
+    let rows = ((cloud[1] - cloud[0]) / s).floor();
+    let section = case.particles.as_mut().ok_or_else(|| anyhow!("needs [particles]"))?;
+    let group = section.groups.first_mut().ok_or_else(|| anyhow!("needs a particle group"))?;
+    let GroupSection::Lattice { region, spacing, .. } = group else { bail!("the cloud must be a lattice group") };
+    *spacing = s;
+    *region = BoxRegion { min: [0.0, cloud[0], 0.0], max: [w, cloud[0] + rows * s, t] };
+    Ok((case, (std::f64::consts::PI / 6.0) * (d / s).powi(3)))
+}
+
+/// Mean of the median settling velocity over the times in `window`.
+fn window_mean(trace: &Trace, window: [f64; 2]) -> f64 {
+    let picked: Vec<f64> =
+        trace.time.iter().zip(&trace.settling).filter(|(t, _)| **t >= window[0] - 1e-12 && **t <= window[1] + 1e-12).map(|(_, u)| *u).collect();
+    picked.iter().sum::<f64>() / picked.len().max(1) as f64
+}
+
+/// Table 6.3 of the thesis: hindered terminal velocities at α_p.
+const TABLE_6_3: [(f64, f64); 5] = [(0.027, 0.692), (0.05, 0.656), (0.1, 0.580), (0.208, 0.434), (0.308, 0.319)];
+
+fn hindered(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let fractions = numbers(base, if full { "full_fractions" } else { "fractions" })?;
+    let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
+    let (cell, width) = (number(base, "cell")?, number(base, "width")?);
+    let cloud = numbers(base, "cloud")?;
+    let window = numbers(base, "window")?;
+    let sphere = sphere(base, 0.5)?;
+    let mut rows = Vec::new();
+    for &target in &fractions {
+        let table = TABLE_6_3.iter().find(|(a, _)| (a - target).abs() < 1e-9).map(|(_, u)| *u);
+        for mapping in &mappings {
+            let (m, gamma) = parse_mapping(mapping)?;
+            let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
+            set_mapping(&mut case, method(m)?, gamma)?;
+            let trace = run(&case)?;
+            let measured = window_mean(&trace, [window[0], window[1]]);
+            let closure = cloud_settling_velocity(&sphere, alpha_p, CloudReconstruction::SlipVelocity)?.particle_velocity;
+            // issue 13: 3 % of Table 6.3 for the kernel, 5 % for the diffusion method; the
+            // lattice's α_p differs from the table's by the rounding of whole spacings, so the
+            // table value is shifted by the closure's slope between the two fractions
+            let tolerance = if m == "diffusion" { 0.05 } else { 0.03 };
+            let reference = match table {
+                Some(u) => u + closure - cloud_settling_velocity(&sphere, target, CloudReconstruction::SlipVelocity)?.particle_velocity,
+                None => closure,
+            };
+            rows.push(CheckRow::relative(
+                name,
+                format!("{m} γ={gamma} α_p={alpha_p:.3}: median settling velocity vs Table 6.3"),
+                SOLVER,
+                measured,
+                reference,
+                tolerance,
+            ));
+        }
+    }
+    Ok(rows)
+}
+
+/// Pressure gradient along gravity over the rows of cells whose centres lie in `band` (in y),
+/// from the mean kinematic pressure of the first and last row [Pa/m].
+fn pressure_gradient(solver: &Coupled<FastFluid, ReferenceDem>, band: [f64; 2], density: f64) -> Result<f64> {
+    let mesh = solver.mesh().ok_or_else(|| anyhow!("no mesh"))?;
+    let fluid = solver.state().fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
+    let (mut lo, mut hi) = ((0.0, 0usize, f64::INFINITY), (0.0, 0usize, f64::NEG_INFINITY));
+    let ys: Vec<f64> = mesh.cell_centres.iter().map(|c| c.y).filter(|y| *y >= band[0] && *y <= band[1]).collect();
+    let (y_lo, y_hi) = (ys.iter().copied().fold(f64::INFINITY, f64::min), ys.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    for (c, x) in mesh.cell_centres.iter().enumerate() {
+        if (x.y - y_lo).abs() < 1e-9 {
+            lo = (lo.0 + fluid.pressure[c], lo.1 + 1, y_lo);
+        }
+        if (x.y - y_hi).abs() < 1e-9 {
+            hi = (hi.0 + fluid.pressure[c], hi.1 + 1, y_hi);
+        }
+    }
+    if lo.1 == 0 || hi.1 == 0 || y_hi <= y_lo {
+        bail!("no two rows of cells in the band {band:?}");
+    }
+    Ok(density * (hi.0 / hi.1 as f64 - lo.0 / lo.1 as f64) / (y_hi - y_lo))
+}
+
+fn hydrostatic(base: &Case) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let (cell, width) = (number(base, "cell")?, number(base, "width")?);
+    let cloud = numbers(base, "cloud")?;
+    let band = numbers(base, "band")?;
+    let target = number(base, "fraction")?;
+    let tolerance = number(base, "tolerance")?;
+    let fluid = base.fluid.as_ref().ok_or_else(|| anyhow!("needs [fluid]"))?;
+    let sphere = sphere(base, 0.5)?;
+    let g = sphere.gravity;
+    let mut rows = Vec::new();
+    for feedback in [Feedback::DragAndFluidAcceleration, Feedback::Literal] {
+        let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
+        case.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.feedback = feedback;
+        let trace = run(&case)?;
+        let measured = -pressure_gradient(&trace.solver, [band[0], band[1]], fluid.density)?;
+        let mixture = (alpha_p * sphere.particle_density + (1.0 - alpha_p) * fluid.density) * g;
+        let label = match feedback {
+            Feedback::DragAndFluidAcceleration => "−dp/dy / (ρ_m g), drag + fluid acceleration fed back",
+            Feedback::Literal => "−dp/dy / (ρ_m g), literal T3.2 feedback (must fail)",
+        };
+        let row = CheckRow::relative(name, label, SOLVER, measured / mixture, 1.0, tolerance);
+        rows.push(match feedback {
+            Feedback::DragAndFluidAcceleration => row,
+            // the literal feedback leaves the submerged weight out: it must miss ρ_m g
+            Feedback::Literal => CheckRow::at_least(name, label, SOLVER, row.error, tolerance),
+        });
+    }
+    Ok(rows)
+}
