@@ -1,16 +1,42 @@
 //! ParaView output of a run: one `.vtu` of the fluid mesh (the rotor turned to its current
 //! angle), one `.vtp` of the particles and one `.vtp` of the wall triangles per written step,
-//! each series indexed by a `.pvd` file that ParaView opens as a time series.
+//! each series indexed by a `.pvd` file that ParaView opens as a time series. A two-way coupled
+//! run adds the exchange of its last step ([`CouplingFrame`]).
 
 use std::path::{Path, PathBuf};
 
 use spillage_model::mesh::Mesh;
-use spillage_model::output::vtk::{self, Encoding, Field, PolyCells, PolyData, PvdCollection, UnstructuredCells, UnstructuredGrid};
+use spillage_model::output::vtk::{self, Encoding, Field, FieldValues, PolyCells, PolyData, PvdCollection, UnstructuredCells, UnstructuredGrid};
 use spillage_model::output::OutputError;
 use spillage_model::state::State;
 
 /// Above this many numbers a file is written in raw binary rather than ASCII.
 const BINARY_ABOVE: usize = 20_000;
+
+/// The fields a two-way coupled run adds to a frame, from its last step; all `None` otherwise
+/// (and before the first step). A field whose length does not match the cells or particles is
+/// left out.
+#[derive(Debug, Default)]
+pub struct CouplingFrame {
+    /// The particles' force density on the fluid per cell, f = (F − C u)/V [N/m³].
+    pub force_density: Option<Vec<[f64; 3]>>,
+    /// Per particle: the fluid velocity it saw, u_c|p [m/s] (zero where it saw no fluid).
+    pub fluid_velocity: Option<Vec<[f64; 3]>>,
+    /// Per particle: the drag force on it [N].
+    pub drag_force: Option<Vec<[f64; 3]>>,
+    /// Per particle: its slip Reynolds number |u_c|p − u_p| d_p/ν.
+    pub slip_reynolds: Option<Vec<f64>>,
+}
+
+/// How many numbers `fields` hold (three per vector entry).
+fn numbers(fields: &[Field]) -> usize {
+    fields.iter().map(|f| f.values.len() * if matches!(f.values, FieldValues::Vector(_)) { 3 } else { 1 }).sum()
+}
+
+/// `values` when there is one per item of `n`.
+fn matching<T>(values: &Option<Vec<T>>, n: usize) -> Option<&[T]> {
+    values.as_deref().filter(|v| v.len() == n)
+}
 
 pub struct Frames {
     dir: PathBuf,
@@ -39,8 +65,8 @@ impl Frames {
         Ok(slot.as_mut().expect("just set"))
     }
 
-    /// Writes the state at its current time.
-    pub fn write(&mut self, mesh: Option<&Mesh>, state: &State) -> Result<(), OutputError> {
+    /// Writes the state at its current time, with the coupling fields of its last step.
+    pub fn write(&mut self, mesh: Option<&Mesh>, state: &State, coupling: &CouplingFrame) -> Result<(), OutputError> {
         let out = self.dir.parent().expect("vtk folder has a parent").to_path_buf();
         let step = state.step;
         if let (Some(mesh), Some(fluid)) = (mesh, &state.fluid) {
@@ -48,18 +74,18 @@ impl Frames {
             let points: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p.x, p.y, p.z]).collect();
             let cells = UnstructuredCells::hexahedra(&mesh.cell_points);
             let zone: Vec<i64> = mesh.cell_zone.iter().map(|&z| z as i64).collect();
-            let grid = UnstructuredGrid {
-                points: &points,
-                cells: &cells,
-                point_data: vec![],
-                cell_data: vec![
-                    Field::vector("velocity", &fluid.velocity),
-                    Field::scalar("kinematic_pressure", &fluid.pressure),
-                    Field::scalar("fluid_fraction", &fluid.alpha),
-                    Field::int("zone", &zone),
-                ],
-            };
-            let encoding = Encoding::by_size(points.len() * 3 + fluid.velocity.len() * 5, BINARY_ABOVE);
+            let mut cell_data = vec![
+                Field::vector("velocity", &fluid.velocity),
+                Field::scalar("kinematic_pressure", &fluid.pressure),
+                Field::scalar("alpha_c", &fluid.alpha),
+                Field::int("zone", &zone),
+            ];
+            if let Some(f) = matching(&coupling.force_density, mesh.n_cells()) {
+                cell_data.push(Field::vector("particle_force_density", f));
+            }
+            let values = points.len() * 3 + numbers(&cell_data);
+            let grid = UnstructuredGrid { points: &points, cells: &cells, point_data: vec![], cell_data };
+            let encoding = Encoding::by_size(values, BINARY_ABOVE);
             vtk::write_vtu(&self.dir.join(&name), &grid, encoding)?;
             Self::collection(&mut self.fluid, out.join("fluid.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
         }
@@ -72,17 +98,25 @@ impl Frames {
             let velocity: Vec<[f64; 3]> = ps.iter().map(|p| p.velocity.into()).collect();
             let spin: Vec<[f64; 3]> = ps.iter().map(|p| p.spin.into()).collect();
             let contacts: Vec<i64> = ps.iter().map(|p| i64::from(p.contacts)).collect();
-            let poly = PolyData::particles(
-                &centres,
-                vec![
-                    Field::int("id", &ids),
-                    Field::scalar("diameter", &diameter),
-                    Field::vector("velocity", &velocity),
-                    Field::vector("angular_velocity", &spin),
-                    Field::int("contacts", &contacts),
-                ],
-            );
-            vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(centres.len() * 12, BINARY_ABOVE))?;
+            let mut fields = vec![
+                Field::int("id", &ids),
+                Field::scalar("diameter", &diameter),
+                Field::vector("velocity", &velocity),
+                Field::vector("angular_velocity", &spin),
+                Field::int("contacts", &contacts),
+            ];
+            if let Some(u) = matching(&coupling.fluid_velocity, ps.len()) {
+                fields.push(Field::vector("fluid_velocity", u));
+            }
+            if let Some(f) = matching(&coupling.drag_force, ps.len()) {
+                fields.push(Field::vector("drag_force", f));
+            }
+            if let Some(re) = matching(&coupling.slip_reynolds, ps.len()) {
+                fields.push(Field::scalar("slip_reynolds", re));
+            }
+            let values = centres.len() * 3 + numbers(&fields);
+            let poly = PolyData::particles(&centres, fields);
+            vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(values, BINARY_ABOVE))?;
             Self::collection(&mut self.particles, out.join("particles.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
         }
         if let Some(walls) = state.walls.as_ref().filter(|w| !w.walls.is_empty()) {

@@ -18,7 +18,7 @@ use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
 
-use crate::frames::Frames;
+use crate::frames::{CouplingFrame, Frames};
 
 use crate::SolverChoice;
 
@@ -59,8 +59,8 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
         }
         None => None,
     };
-    if fluid.is_some() && particles.is_some() {
-        eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles yet");
+    if fluid.is_some() && particles.is_some() && case.coupling.is_none() {
+        eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles; add a [coupling] section for two-way coupling");
     }
     Ok(Box::new(Coupled::new(case, state, fluid, particles).map_err(located)?))
 }
@@ -180,7 +180,7 @@ impl Running<'_> {
         let output = &self.case.output;
         let write_every = self.case.time.write_every;
         if self.restart_time.is_none() && output.paraview {
-            self.frames.write(solver.mesh(), solver.state())?;
+            self.frames.write(solver.mesh(), solver.state(), &coupling_frame(solver))?;
         }
         // one report for the whole run: the solver refills it in place each step
         let mut report = StepReport::default();
@@ -195,7 +195,7 @@ impl Running<'_> {
             }
             self.record(state, &report)?;
             if output.paraview && write_every > 0 && state.step % write_every == 0 {
-                self.frames.write(solver.mesh(), state)?;
+                self.frames.write(solver.mesh(), state, &coupling_frame(solver))?;
             }
             if output.checkpoint_every > 0 && state.step % output.checkpoint_every == 0 {
                 self.checkpoint(state)?;
@@ -209,7 +209,7 @@ impl Running<'_> {
         let state = solver.state();
         let last_written = write_every > 0 && state.step % write_every == 0;
         if output.paraview && !last_written && self.steps > 0 {
-            self.frames.write(solver.mesh(), state)?;
+            self.frames.write(solver.mesh(), state, &coupling_frame(solver))?;
         }
         self.checkpoint(state)?;
         Ok(())
@@ -240,6 +240,19 @@ impl Running<'_> {
         let path = self.out.join("checkpoints").join(format!("step_{:08}.ckpt", state.step));
         spillage_model::checkpoint::write(&path, &self.case.case.name, state)?;
         Ok(())
+    }
+}
+
+/// The coupling fields of the solver's last step for a frame (none unless two-way coupled).
+fn coupling_frame(solver: &dyn Solver) -> CouplingFrame {
+    let (Some(exchange), Some(mesh), Some(fluid)) = (solver.coupling_output(), solver.mesh(), &solver.state().fluid) else {
+        return CouplingFrame::default();
+    };
+    CouplingFrame {
+        force_density: Some(exchange.cells.force_density(mesh, &fluid.velocity)),
+        fluid_velocity: Some(exchange.fluid_at_particles.iter().map(|f| f.map_or([0.0; 3], |f| f.velocity.into())).collect()),
+        drag_force: Some(exchange.particles.drag.clone()),
+        slip_reynolds: Some(exchange.particles.slip_reynolds.clone()),
     }
 }
 

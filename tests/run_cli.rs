@@ -103,6 +103,58 @@ plots = false
     path
 }
 
+/// One rock settling in a small 2-D box of water, two-way coupled (`[coupling]`).
+fn settling_case(dir: &Path) -> PathBuf {
+    let text = r#"
+[case]
+name = "small_settling"
+[physics]
+gravity = [0.0, -9.81, 0.0]
+[time]
+dt = 0.001
+end_time = 0.01
+write_every = 5
+[fluid]
+density = 998.2
+kinematic_viscosity = 1.0034e-6
+[mesh]
+generator = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.02]
+cells = [5, 10, 1]
+two_d = true
+[boundary.x_min]
+type = "wall"
+[boundary.x_max]
+type = "wall"
+[boundary.y_min]
+type = "wall"
+[boundary.y_max]
+type = "wall"
+[coupling]
+method = "kernel"
+[particles]
+substep = 0.001
+[[particles.materials]]
+name = "rock"
+density = 2650.0
+youngs_modulus = 1e7
+poisson_ratio = 0.25
+restitution = 0.5
+friction = 0.3
+[[particles.groups]]
+placement = "list"
+material = "rock"
+diameter = 0.01
+positions = [[0.05, 0.15, 0.01]]
+[output]
+plots = false
+"#;
+    let path = dir.join("small_settling.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 fn run_ok(args: &[&str]) {
     let out = spillage(args);
     assert!(out.status.success(), "spillage {args:?} failed:\n{}", String::from_utf8_lossy(&out.stderr));
@@ -206,6 +258,57 @@ fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
     let last = read_vtk(&whole.join(&frames.last().unwrap().file)).unwrap();
     for field in ["id", "diameter", "velocity", "angular_velocity", "contacts"] {
         assert!(last.point_field(field).is_some(), "particle field {field} missing");
+    }
+}
+
+/// A two-way coupled run writes what the phases exchange (issue 13, output): α_c and the
+/// particles' force density per cell, the fluid velocity, drag and slip Reynolds number per
+/// particle, and the settling velocity in the series.
+#[test]
+fn a_two_way_coupled_run_writes_the_coupling_fields() {
+    let dir = scratch("two-way");
+    let case = settling_case(&dir);
+    let out = dir.join("out");
+    let run = spillage(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(!stderr.contains("one-way coupling"), "a case with [coupling] is two-way coupled: {stderr}");
+
+    let last_frame = |pvd: &str| {
+        let frames = read_pvd(&out.join(pvd)).unwrap();
+        assert_eq!(frames.len(), 3, "{pvd}: frames at steps 0, 5, 10");
+        read_vtk(&out.join(&frames.last().unwrap().file)).unwrap()
+    };
+    let fluid = last_frame("fluid.pvd");
+    let finite = |name: &str, values: &[f64], n: usize| {
+        assert_eq!(values.len(), n, "{name}: {} values, expected {n}", values.len());
+        assert!(values.iter().all(|v| v.is_finite()), "{name}: {values:?}");
+    };
+    let cell_field = |name: &str| fluid.cell_field(name).unwrap_or_else(|| panic!("fluid field {name} missing")).values.as_f64().unwrap().to_vec();
+    let alpha_c = cell_field("alpha_c");
+    finite("alpha_c", &alpha_c, 50);
+    assert!(alpha_c.iter().all(|a| *a > 0.0 && *a <= 1.0) && alpha_c.iter().any(|a| *a < 1.0), "α_c {alpha_c:?}");
+    let force_density = cell_field("particle_force_density");
+    finite("particle_force_density", &force_density, 3 * 50);
+    let on_fluid_y: f64 = force_density.iter().skip(1).step_by(3).sum();
+    assert!(on_fluid_y < 0.0, "the settling particle pushes the water down: Σ f_y = {on_fluid_y}");
+
+    let particles = last_frame("particles.pvd");
+    let point_field = |name: &str| particles.point_field(name).unwrap_or_else(|| panic!("particle field {name} missing")).values.as_f64().unwrap().to_vec();
+    finite("fluid_velocity", &point_field("fluid_velocity"), 3);
+    let drag = point_field("drag_force");
+    finite("drag_force", &drag, 3);
+    assert!(drag[1] > 0.0, "the drag on a settling particle points up: {drag:?}");
+    let reynolds = point_field("slip_reynolds");
+    finite("slip_reynolds", &reynolds, 1);
+    assert!(reynolds[0] > 0.0, "slip Reynolds number {reynolds:?}");
+
+    let series = read_series(&out.join("series.csv")).unwrap();
+    let settling = series.column("settling_velocity").expect("settling_velocity column");
+    assert_eq!(settling.len(), 10);
+    assert!(settling.iter().all(|v| v.is_finite()) && *settling.last().unwrap() > 0.0, "settling velocity {settling:?}");
+    for column in ["particles", "escaped", "alpha_p_max", "alpha_c_clamped", "particle_volume"] {
+        assert!(series.column(column).is_some(), "series column {column} missing");
     }
 }
 

@@ -1,6 +1,9 @@
 //! The interface both solvers implement.
 
+use crate::closure::drag::FluidAtParticle;
+use crate::coupling::CellLoad;
 use crate::state::State;
+use crate::step::ParticleLoad;
 
 /// What one step did, for the progress bar and the time series.
 #[derive(Clone, Debug, Default)]
@@ -8,6 +11,17 @@ pub struct StepReport {
     /// Named scalar diagnostics of this step (continuity error, Courant number, kinetic
     /// energy, outer iterations, particle counts…), in a fixed order.
     pub values: Vec<(&'static str, f64)>,
+}
+
+/// What the phases of a two-way coupled run exchanged in the last step, for output.
+#[derive(Clone, Copy, Debug)]
+pub struct CouplingOutput<'a> {
+    /// The particle load mapped to the cells, in cell order.
+    pub cells: &'a CellLoad,
+    /// The particle load (drag, slip Reynolds number…), in particle order.
+    pub particles: &'a ParticleLoad,
+    /// The fluid each particle saw in the step, in particle order.
+    pub fluid_at_particles: &'a [Option<FluidAtParticle>],
 }
 
 /// Why a step failed.
@@ -41,6 +55,11 @@ pub trait Solver {
     fn state(&self) -> &State;
     /// The mesh at the current time (rotor turned), for output; `None` for particle-only runs.
     fn mesh(&self) -> Option<&crate::mesh::Mesh> {
+        None
+    }
+    /// The coupling exchange of the last step, for output; `None` unless the run is two-way
+    /// coupled and has taken a step.
+    fn coupling_output(&self) -> Option<CouplingOutput<'_>> {
         None
     }
 }

@@ -64,12 +64,13 @@ pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt
 
 /// Removes the particles for which `route` names an exit, logs them with `time`, drops their
 /// contact history and their entries of `load` (which is per particle, in particle order).
-/// Particle order (by id) is kept. Returns how many left.
+/// Particle order (by id) is kept. `route` is called once per particle, in particle order.
+/// Returns how many left.
 pub fn remove_exited(
     state: &mut ParticleState,
     load: Option<&mut crate::step::ParticleLoad>,
     time: f64,
-    route: impl Fn(&super::Particle) -> Option<ExitRoute>,
+    mut route: impl FnMut(&super::Particle) -> Option<ExitRoute>,
 ) -> u64 {
     let mut gone = Vec::new();
     let mut exits = Vec::new();

@@ -36,7 +36,7 @@ use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
 use crate::particles::bookkeeping::{self, ExitRoute};
 use crate::particles::settings::ParticlesSection;
-use crate::solver::{Solver, SolverError, StepReport};
+use crate::solver::{CouplingOutput, Solver, SolverError, StepReport};
 use crate::state::State;
 
 /// A fluid phase, a particle phase, or both, and the state they advance.
@@ -50,7 +50,7 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     particle_section: Option<ParticlesSection>,
     /// The still fluid of `[particles.ambient]` when it exerts forces (particle-only runs).
     ambient: Option<FluidAtParticle>,
-    /// Fluid seen by each particle this step (reused).
+    /// Fluid seen by each particle this step, in particle order after the exits (reused).
     samples: Vec<Option<FluidAtParticle>>,
     /// The particle ↔ mesh mapping of a two-way coupled run (`[coupling]`).
     mapping: Option<ParticleMeshMap>,
@@ -166,8 +166,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         self.cell_load.as_ref()
     }
 
-    /// The fluid each particle saw in the last step, in the order of the particles before that
-    /// step's exits.
+    /// The fluid each particle saw in the last step (held for the whole step), in particle order.
     pub fn fluid_at_particles(&self) -> &[Option<FluidAtParticle>] {
         &self.samples
     }
@@ -247,7 +246,23 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
             let domain = section.domain.clone();
-            bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| exit_route(domain.as_ref(), mesh, &p.position));
+            let (mut index, mut gone) = (0, Vec::new());
+            bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| {
+                let route = exit_route(domain.as_ref(), mesh, &p.position);
+                if route.is_some() {
+                    gone.push(index);
+                }
+                index += 1;
+                route
+            });
+            // the samples follow their particles out: they stay in particle order (output)
+            if !gone.is_empty() {
+                let mut i = 0;
+                self.samples.retain(|_| {
+                    i += 1;
+                    gone.binary_search(&(i - 1)).is_err()
+                });
+            }
             report.values.push(("particles", particles.particles.len() as f64));
             report.values.push(("escaped", particles.escaped() as f64));
             report.values.push(("impacts", particles.impacts.len() as f64));
@@ -375,5 +390,10 @@ impl<F: FluidPhase, P: ParticlePhase> Solver for Coupled<F, P> {
 
     fn mesh(&self) -> Option<&Mesh> {
         self.fluid.as_ref().map(|f| f.mesh())
+    }
+
+    fn coupling_output(&self) -> Option<CouplingOutput<'_>> {
+        self.mapping.as_ref()?;
+        Some(CouplingOutput { cells: self.cell_load.as_ref()?, particles: self.particle_load.as_ref()?, fluid_at_particles: &self.samples })
     }
 }
