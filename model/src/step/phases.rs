@@ -34,7 +34,8 @@ pub struct ParticleLoad {
     pub explicit_force: Vec<[f64; 3]>,
     /// Drag on the particle F_d [N] (output).
     pub drag: Vec<[f64; 3]>,
-    /// Slip Reynolds number |u_c|p − u_p| d_p/ν at the end of the step (output, T3.42).
+    /// Slip Reynolds number |u_c|p − u_p| d_p/ν at the start of the step's last fluid-force
+    /// update (output, T3.42).
     pub slip_reynolds: Vec<f64>,
 }
 
