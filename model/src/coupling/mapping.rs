@@ -253,3 +253,120 @@ impl ParticleMeshMap {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coupling::settings::Feedback;
+    use crate::mesh::cartesian::BoxSpec;
+    use crate::mesh::cylindrical::RotorStatorSpec;
+    use crate::particles::Particle;
+
+    fn particle(x: Vec3, diameter: f64) -> Particle {
+        Particle {
+            id: 0,
+            material: 0,
+            diameter,
+            density: 2650.0,
+            position: x,
+            velocity: Vec3::zeros(),
+            spin: Vec3::zeros(),
+            contact_force: Vec3::zeros(),
+            contact_torque: Vec3::zeros(),
+            contacts: 0,
+        }
+    }
+
+    fn map(method: MappingMethod, mask: bool) -> ParticleMeshMap {
+        let section = CouplingSection {
+            method,
+            distance_factor: 1.0,
+            feedback: Feedback::default(),
+            interface_mask: mask,
+            drag: Default::default(),
+            min_fluid_fraction: 0.05,
+        };
+        ParticleMeshMap::new(&section)
+    }
+
+    fn load(particles: &[Particle]) -> ParticleLoad {
+        let n = particles.len();
+        let mut load = ParticleLoad::zeros(n);
+        for (i, p) in particles.iter().enumerate() {
+            load.volume[i] = p.volume();
+            load.implicit_drag[i] = 0.01 * (i + 1) as f64;
+            load.explicit_force[i] = [0.3, -1.0 * (i + 1) as f64, 0.2];
+        }
+        load
+    }
+
+    /// U-19 and U-24 (§12) for all three methods: Σ_j α_p,j V_j = Σ V_p, Σ_j C_j = Σ K_n and
+    /// Σ_j F_j = Σ F_n to round-off, in the interior and at walls (the diffusion method to its
+    /// folded-back residual, also round-off).
+    #[test]
+    fn every_method_conserves_volume_drag_and_force() {
+        let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.02), [20, 30, 1])).unwrap();
+        let particles = [particle(Vec3::new(0.1, 0.15, 0.01), 0.01), particle(Vec3::new(0.004, 0.29, 0.01), 0.01)];
+        let load = load(&particles);
+        for method in [MappingMethod::Centroid, MappingMethod::Kernel, MappingMethod::Diffusion] {
+            let mut cells = CellLoad::default();
+            map(method, true).deposit(&mesh, &particles, &load, &mut cells);
+            let volume: f64 = cells.particle_fraction.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v).sum();
+            let drag: f64 = cells.implicit_drag.iter().sum();
+            let force: Vec3 = cells.explicit_force.iter().sum();
+            let exact_volume: f64 = load.volume.iter().sum();
+            assert!((volume / exact_volume - 1.0).abs() < 1e-13, "{method:?}: volume {volume} vs {exact_volume}");
+            assert!((drag / 0.03 - 1.0).abs() < 1e-13, "{method:?}: drag {drag}");
+            assert!((force - Vec3::new(0.6, -3.0, 0.4)).norm() < 1e-13, "{method:?}: force {force}");
+            assert!(cells.masked.iter().all(|m| !m), "{method:?}: no interface, no mask");
+        }
+    }
+
+    /// At a sliding interface (Table 4.2): a kernel stays on the particle's side and is
+    /// normalised there, so the load is still conserved; the mask covers exactly the cells
+    /// within 3γd_max of an interface face, and none with `interface_mask = false`.
+    #[test]
+    fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
+        let spec = RotorStatorSpec {
+            r_inner: 0.05,
+            r_interface: 0.2,
+            r_outer: 0.4,
+            z_min: 0.0,
+            z_max: 0.02,
+            n_r_rotor: 15,
+            n_r_stator: 20,
+            n_theta_rotor: 126,
+            n_theta_stator: 137,
+            n_z: 1,
+            radial_grading_rotor: 1.0,
+            radial_grading_stator: 1.0,
+        };
+        let mesh = Mesh::rotor_stator(&spec).unwrap();
+        let particles = [particle(Vec3::new(0.195, 0.0, 0.01), 0.01)];
+        let load = load(&particles);
+        let m = map(MappingMethod::Kernel, true);
+        let mut cells = CellLoad::default();
+        m.deposit(&mesh, &particles, &load, &mut cells);
+        let host_zone = mesh.cell_zone[mesh.locate(&particles[0].position).unwrap()];
+        for (c, a) in cells.particle_fraction.iter().enumerate() {
+            assert!(*a == 0.0 || mesh.cell_zone[c] == host_zone, "cell {c} across the interface got α_p {a}");
+        }
+        let volume: f64 = cells.particle_fraction.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v).sum();
+        assert!((volume / particles[0].volume() - 1.0).abs() < 1e-13, "volume {volume}");
+        let spread = cells.particle_fraction.iter().filter(|a| **a > 0.0).count();
+        assert!(spread > 4, "the kernel spans {spread} cells");
+        // the band: |r − 0.2| ≲ 3 cm (face centres of the polygonal interface lie just inside 0.2)
+        for (c, masked) in cells.masked.iter().enumerate() {
+            let x = mesh.cell_centres[c];
+            let r = (x.x * x.x + x.y * x.y).sqrt();
+            if (r - 0.2).abs() < 0.029 {
+                assert!(masked, "cell {c} at r = {r} should be masked");
+            }
+            if (r - 0.2).abs() > 0.031 {
+                assert!(!masked, "cell {c} at r = {r} should not be masked");
+            }
+        }
+        map(MappingMethod::Kernel, false).deposit(&mesh, &particles, &load, &mut cells);
+        assert!(cells.masked.iter().all(|m| !m));
+    }
+}
