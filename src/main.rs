@@ -61,6 +61,10 @@ enum Command {
         /// Include the fine levels (slow).
         #[arg(long)]
         full: bool,
+        /// Draw the checks' figures (PNG) into this folder: settling velocity against time with
+        /// the analytic curve, cloud velocity against particle fraction, …
+        #[arg(long)]
+        plots: Option<PathBuf>,
     },
 }
 
@@ -69,7 +73,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run { case, solver, out, threads, restart } => run::run(&run::RunOptions { case, solver, out, threads, restart }),
         Command::Check { case } => check::check(&case),
-        Command::Verify { cases, json, full } => verify_cmd::verify(&cases, json, full),
+        Command::Verify { cases, json, full, plots } => verify_cmd::verify(&cases, json, full, plots.as_deref()),
         Command::Analytic(args) => analytic_cmd::run(&args),
     };
     match result {

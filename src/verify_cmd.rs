@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use spillage_model::case::Case;
 
-use spillage::verify::{ladder, run_case, CheckRow};
+use spillage::verify::{ladder, run_case_with_plots, CheckRow};
 
 /// Stable JSON output of `spillage verify --json` (documented in the README).
 #[derive(serde::Serialize)]
@@ -17,7 +17,7 @@ struct Report<'a> {
     rows: &'a [CheckRow],
 }
 
-pub fn verify(inputs: &[PathBuf], json: bool, full: bool) -> anyhow::Result<ExitCode> {
+pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
     let inputs = if inputs.is_empty() { vec![PathBuf::from("cases/verification")] } else { inputs.to_vec() };
     let mut files = Vec::new();
     for input in &inputs {
@@ -36,7 +36,7 @@ pub fn verify(inputs: &[PathBuf], json: bool, full: bool) -> anyhow::Result<Exit
         if !json {
             eprintln!("verifying {} …", file.display());
         }
-        rows.extend(run_case(&case, full)?);
+        rows.extend(run_case_with_plots(&case, full, plots)?);
     }
     let failed = rows.iter().filter(|r| !r.pass).count();
     if json {

@@ -8,13 +8,17 @@
 //! reference fluid would take ~10× longer on the finer levels. Reference answers come from the
 //! analytic crate, which solves the same particle equation independently.
 
+use std::path::Path;
+
 use anyhow::{anyhow, bail, Context, Result};
 use spillage_analytic::drag_laws::DragLaw as AnalyticDrag;
 use spillage_analytic::hindered_settling::{cloud_settling_velocity, CloudReconstruction};
+use spillage_analytic::hindered_settling::{richardson_zaki_velocity, rowe_exponent};
 use spillage_analytic::settling::SettlingSphere;
 use spillage_fast::fluid::FastFluid;
 use spillage_model::case::{Case, MeshSection};
 use spillage_model::coupling::{Feedback, MappingMethod};
+use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::particles::settings::{BoxRegion, GroupSection};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
@@ -26,11 +30,13 @@ use super::CheckRow;
 /// Checks implemented here.
 pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic"];
 
-pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> {
+/// Runs `check`; with `plots`, also draws its figure(s) there (settling velocity against time with
+/// the analytic curve; cloud velocity against α_p with the closure and Richardson–Zaki).
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
-        "coupling_settling" => settling(case, full),
-        "coupling_stokes" => stokes(case),
-        "coupling_hindered" => hindered(case, full),
+        "coupling_settling" => settling(case, full, plots),
+        "coupling_stokes" => stokes(case, plots),
+        "coupling_hindered" => hindered(case, full, plots),
         "coupling_hydrostatic" => hydrostatic(case),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }
@@ -150,18 +156,39 @@ fn sphere(case: &Case, added_mass: f64) -> Result<SettlingSphere> {
 // P1: one settling sphere
 
 /// Terminal velocity (at the end time) and the largest transient deviation, both relative to
-/// the analytic terminal velocity.
-fn settling_errors(case: &Case) -> Result<(f64, f64)> {
+/// the analytic terminal velocity, and the settling velocity against time.
+fn settling_errors(case: &Case) -> Result<(f64, f64, Vec<(f64, f64)>)> {
     let sphere = sphere(case, 0.5)?;
     let terminal = sphere.terminal_velocity(AnalyticDrag::BrownLawler)?.velocity;
     let trace = run(case)?;
     let exact = sphere.transient(AnalyticDrag::BrownLawler, &trace.time)?;
     let transient = trace.settling.iter().zip(&exact).map(|(u, e)| (u - e.velocity).abs()).fold(0.0, f64::max) / terminal;
     let last = *trace.settling.last().ok_or_else(|| anyhow!("no steps"))?;
-    Ok(((last - terminal) / terminal, transient))
+    Ok(((last - terminal) / terminal, transient, curve(&trace)))
 }
 
-fn settling(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
+/// (t, settling velocity) of a run.
+fn curve(trace: &Trace) -> Vec<(f64, f64)> {
+    trace.time.iter().copied().zip(trace.settling.iter().copied()).collect()
+}
+
+/// Writes a plot into `dir` (if plotting) as `name.png`.
+fn draw(dir: Option<&Path>, name: &str, plot: &Plot) -> Result<()> {
+    if let Some(dir) = dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        write_png(plot, &dir.join(format!("{name}.png")))?;
+    }
+    Ok(())
+}
+
+/// A settling-velocity-against-time figure: the runs and the analytic curve.
+fn draw_settling(dir: Option<&Path>, name: &str, title: &str, runs: &[(String, Vec<(f64, f64)>)], exact: &[(f64, f64)]) -> Result<()> {
+    let mut series: Vec<Series> = runs.iter().map(|(label, points)| Series { label, points }).collect();
+    series.push(Series { label: "analytic", points: exact });
+    draw(dir, name, &Plot { title, x_label: "time [s]", y_label: "settling velocity [m/s]", log_x: false, log_y: false, series })
+}
+
+fn settling(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let widths = numbers(base, if full { "full_widths" } else { "widths" })?;
     let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
@@ -172,15 +199,23 @@ fn settling(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let nx = w as usize;
         let ny = (nx as f64 * max[1] / max[0]).round() as usize;
         let ratio = d / (max[0] / nx as f64);
+        let mut runs = Vec::new();
         for mapping in &mappings {
             let (m, gamma) = parse_mapping(mapping)?;
             let mut case = base.clone();
             set_box(&mut case, max, [nx, ny, cells[2]])?;
             set_mapping(&mut case, method(m)?, gamma)?;
-            let (terminal, transient) = settling_errors(&case)?;
+            let (terminal, transient, points) = settling_errors(&case)?;
             // spec acceptance (issue 13): 1 % of u_t at the end, 2 % of u_t over the transient
             rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: terminal velocity relative error"), SOLVER, terminal, 0.01));
             rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: max |u − u_ode| / u_t"), SOLVER, transient, 0.02));
+            runs.push((format!("{m} γ = {gamma}"), points));
+        }
+        if plots.is_some() {
+            let times: Vec<f64> = runs.first().map(|(_, p)| p.iter().map(|(t, _)| *t).collect()).unwrap_or_default();
+            let exact: Vec<(f64, f64)> = sphere(base, 0.5)?.transient(AnalyticDrag::BrownLawler, &times)?.iter().map(|s| (s.time, s.velocity)).collect();
+            let title = format!("{name}: one 10 mm sphere settling, d_p/Δx = {ratio:.2}");
+            draw_settling(plots, &format!("{name}_dx{ratio:.2}"), &title, &runs, &exact)?;
         }
     }
     // the centroid method's documented failure (§6.1): its terminal velocity misses by more than
@@ -190,7 +225,7 @@ fn settling(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
     let mut case = base.clone();
     set_box(&mut case, max, [nx, ny, cells[2]])?;
     set_mapping(&mut case, MappingMethod::Centroid, 1.0)?;
-    let (terminal, _) = settling_errors(&case)?;
+    let (terminal, _, _) = settling_errors(&case)?;
     let ratio = d / (max[0] / nx as f64);
     rows.push(CheckRow::at_least(
         name,
@@ -205,8 +240,9 @@ fn settling(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
 // ---------------------------------------------------------------------------------------------
 // Stokes settling and its order in Δt
 
-/// Largest |u − u_exact| over the run with step `dt` (the DEM sub-step follows it).
-fn stokes_error(base: &Case, dt: f64) -> Result<f64> {
+/// Largest |u − u_exact| over the run with step `dt` (the DEM sub-step follows it), and the
+/// settling velocity against time.
+fn stokes_error(base: &Case, dt: f64) -> Result<(f64, Vec<(f64, f64)>)> {
     let mut case = base.clone();
     case.time.dt = Some(dt);
     if let Some(p) = case.particles.as_mut() {
@@ -218,24 +254,31 @@ fn stokes_error(base: &Case, dt: f64) -> Result<f64> {
     for (t, u) in trace.time.iter().zip(&trace.settling) {
         worst = worst.max((u - sphere.stokes_transient(*t)?.velocity).abs());
     }
-    Ok(worst)
+    Ok((worst, curve(&trace)))
 }
 
-fn stokes(case: &Case) -> Result<Vec<CheckRow>> {
+fn stokes(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = case.case.name.as_str();
     let steps = numbers(case, "time_steps")?;
     let bound = number(case, "source_largest_error")?;
     let sphere = sphere(case, 0.5)?;
     let mut rows = Vec::new();
     let mut errors = Vec::new();
+    let mut runs = Vec::new();
     for &dt in &steps {
-        let e = stokes_error(case, dt)?;
+        let (e, points) = stokes_error(case, dt)?;
         errors.push(e);
+        runs.push((format!("Δt = {dt} s"), points));
         rows.push(CheckRow::at_most(name, format!("largest |u − u_exact| [m/s], Δt = {dt}"), SOLVER, e, bound));
     }
     // a terminal velocity that is right to 0.1 % (the run ends at 9.4 τ, e^−9.4 = 8e-5 below it)
     let trace_end = sphere.stokes_transient(case.time.end_time.unwrap_or(0.0))?.velocity;
     rows.push(CheckRow::relative(name, "analytic u(t_end) / Stokes terminal velocity", "analytic", trace_end, sphere.stokes_terminal_velocity(), 1e-3));
+    if plots.is_some() {
+        let end = case.time.end_time.unwrap_or(0.0);
+        let exact: Vec<(f64, f64)> = (0..=200).map(|k| end * k as f64 / 200.0).map(|t| Ok((t, sphere.stokes_transient(t)?.velocity))).collect::<Result<_>>()?;
+        draw_settling(plots, name, &format!("{name}: 400 µm sphere, Stokes drag"), &runs, &exact)?;
+    }
     // first-order implicit drag update: the observed order of the largest error ≥ 0.9 per halving
     for k in 1..errors.len() {
         let order = (errors[k - 1] / errors[k]).log2();
@@ -280,7 +323,7 @@ fn window_mean(trace: &Trace, window: [f64; 2]) -> f64 {
 /// Table 6.3 of the thesis: hindered terminal velocities at α_p.
 const TABLE_6_3: [(f64, f64); 5] = [(0.027, 0.692), (0.05, 0.656), (0.1, 0.580), (0.208, 0.434), (0.308, 0.319)];
 
-fn hindered(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
+fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let fractions = numbers(base, if full { "full_fractions" } else { "fractions" })?;
     let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
@@ -289,9 +332,10 @@ fn hindered(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
     let window = numbers(base, "window")?;
     let sphere = sphere(base, 0.5)?;
     let mut rows = Vec::new();
+    let mut measured_points: Vec<(String, Vec<(f64, f64)>)> = mappings.iter().map(|m| (m.replace(':', " γ = "), Vec::new())).collect();
     for &target in &fractions {
         let table = TABLE_6_3.iter().find(|(a, _)| (a - target).abs() < 1e-9).map(|(_, u)| *u);
-        for mapping in &mappings {
+        for (k, mapping) in mappings.iter().enumerate() {
             let (m, gamma) = parse_mapping(mapping)?;
             let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
             set_mapping(&mut case, method(m)?, gamma)?;
@@ -314,7 +358,27 @@ fn hindered(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
                 reference,
                 tolerance,
             ));
+            measured_points[k].1.push((alpha_p, measured));
         }
+    }
+    if plots.is_some() {
+        let single = sphere.terminal_velocity(AnalyticDrag::BrownLawler)?;
+        let n = rowe_exponent(single.reynolds)?;
+        let grid: Vec<f64> = (0..=35).map(|k| 0.01 * k as f64).collect();
+        let closure: Vec<(f64, f64)> =
+            grid.iter().map(|&a| Ok((a, cloud_settling_velocity(&sphere, a, CloudReconstruction::SlipVelocity)?.particle_velocity))).collect::<Result<_>>()?;
+        let rz: Vec<(f64, f64)> = grid.iter().map(|&a| Ok((a, richardson_zaki_velocity(single.velocity, a, n, 0.0)?))).collect::<Result<_>>()?;
+        let table: Vec<(f64, f64)> = TABLE_6_3.to_vec();
+        let mut series: Vec<Series> = measured_points.iter().filter(|(_, p)| !p.is_empty()).map(|(label, points)| Series { label, points }).collect();
+        series.push(Series { label: "Di Felice closure (A)", points: &closure });
+        series.push(Series { label: "Richardson–Zaki (Rowe n)", points: &rz });
+        series.push(Series { label: "thesis Table 6.3", points: &table });
+        let title = format!("{name}: cloud settling velocity against particle fraction");
+        draw(
+            plots,
+            name,
+            &Plot { title: &title, x_label: "particle fraction α_p [−]", y_label: "median settling velocity [m/s]", log_x: false, log_y: false, series },
+        )?;
     }
     Ok(rows)
 }

@@ -69,11 +69,16 @@ impl CheckRow {
 
 /// Runs the check named in `case.verify`. `full` adds the fine levels.
 pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+    run_case_with_plots(case, full, None)
+}
+
+/// [`run_case`], drawing the check's figures into `plots` (checks that have figures).
+pub fn run_case_with_plots(case: &Case, full: bool, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
     let Some(verify) = &case.verify else {
         anyhow::bail!("{}: not a verification case (it has no [verify] section)", case.path.display());
     };
     let check = verify.check.as_str();
-    let rows = dispatch(case, check, full)?;
+    let rows = dispatch(case, check, full, plots)?;
     if rows.is_empty() {
         anyhow::bail!("{}: check `{check}` produced no rows", case.path.display());
     }
@@ -81,7 +86,7 @@ pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
 }
 
 /// Each model's verification module lists its checks in `CHECKS` and runs them in `run_check`.
-fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
     if dem::CHECKS.contains(&check) {
         return dem::run_check(case, check, full);
     }
@@ -89,7 +94,7 @@ fn dispatch(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow
         return fluid::run_check(case, check, full);
     }
     if coupling::CHECKS.contains(&check) {
-        return coupling::run_check(case, check, full);
+        return coupling::run_check(case, check, full, plots);
     }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
