@@ -28,7 +28,7 @@ use spillage_reference::dem::ReferenceDem;
 use super::CheckRow;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic"];
+pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic", "coupling_interface"];
 
 /// Runs `check`; with `plots`, also draws its figure(s) there (settling velocity against time with
 /// the analytic curve; cloud velocity against α_p with the closure and Richardson–Zaki).
@@ -38,6 +38,7 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> 
         "coupling_stokes" => stokes(case, plots),
         "coupling_hindered" => hindered(case, full, plots),
         "coupling_hydrostatic" => hydrostatic(case),
+        "coupling_interface" => interface_crossing(case, full),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -90,6 +91,9 @@ struct Trace {
     time: Vec<f64>,
     /// Median settling velocity (along gravity) of the particles in the domain.
     settling: Vec<f64>,
+    /// Continuity errors of the step (series.csv's `continuity_global`, `continuity_cumulative`) [m³].
+    continuity_global: Vec<f64>,
+    continuity_cumulative: Vec<f64>,
     solver: Coupled<FastFluid, ReferenceDem>,
 }
 
@@ -103,12 +107,14 @@ fn run(case: &Case) -> Result<Trace> {
     let dt = case.time.dt.ok_or_else(|| anyhow!("coupling checks need a fixed [time] dt"))?;
     let end = case.time.end_time.ok_or_else(|| anyhow!("coupling checks need [time] end_time"))?;
     let steps = (end / dt - 1e-9).ceil() as u64;
-    let mut trace = Trace { time: Vec::new(), settling: Vec::new(), solver };
+    let mut trace = Trace { time: Vec::new(), settling: Vec::new(), continuity_global: Vec::new(), continuity_cumulative: Vec::new(), solver };
     for _ in 0..steps {
         let report = trace.solver.step().with_context(|| format!("case {}", case.case.name))?;
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         trace.time.push(trace.solver.state().time);
         trace.settling.push(value("settling_velocity").unwrap_or(f64::NAN));
+        trace.continuity_global.push(value("continuity_global").unwrap_or(f64::NAN));
+        trace.continuity_cumulative.push(value("continuity_cumulative").unwrap_or(f64::NAN));
     }
     Ok(trace)
 }
@@ -434,4 +440,91 @@ fn hydrostatic(base: &Case) -> Result<Vec<CheckRow>> {
         });
     }
     Ok(rows)
+}
+
+// ---------------------------------------------------------------------------------------------
+// P2: settling through a stationary sliding interface
+
+/// The same annulus without the interface: one block with the rotor's and stator's rings and
+/// the mean of their cells around.
+fn without_interface(case: &Case) -> Result<Case> {
+    let mut plain = case.clone();
+    let Some(MeshSection::RotorStator { r_inner, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, two_d, .. }) =
+        case.mesh.clone()
+    else {
+        bail!("{}: the interface check needs a rotor_stator mesh", case.path.display());
+    };
+    plain.mesh = Some(MeshSection::Annulus {
+        r_inner,
+        r_outer,
+        z_min,
+        z_max,
+        n_r: n_r_rotor + n_r_stator,
+        n_theta: (n_theta_rotor + n_theta_stator) / 2,
+        n_z,
+        radial_grading: 1.0,
+        two_d,
+    });
+    Ok(plain)
+}
+
+fn interface_crossing(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let case = if full { refined(base, number(base, "full_refinement")? as usize)? } else { base.clone() };
+    let volume = sphere(&case, 0.5)?.volume();
+    let plain = run(&without_interface(&case)?)?;
+    let mut rows = Vec::new();
+    let mut largest = [0.0f64; 2];
+    for (k, mask) in [false, true].into_iter().enumerate() {
+        let mut c = case.clone();
+        c.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.interface_mask = mask;
+        let trace = run(&c)?;
+        // the interface's effect: the velocity difference to the run without it, relative to
+        // that run's final (near-terminal) velocity, as Table 6.4's relative error
+        let terminal = plain.settling.last().copied().unwrap_or(f64::NAN).abs();
+        largest[k] = trace.settling.iter().zip(&plain.settling).map(|(u, v)| (u - v).abs()).fold(0.0, f64::max) / terminal;
+        if mask {
+            let global = trace.continuity_global.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
+            let cumulative = trace.continuity_cumulative.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
+            rows.push(CheckRow::at_most(
+                name,
+                "masked: relative velocity difference to no interface",
+                SOLVER,
+                largest[k],
+                number(base, "velocity_difference")?,
+            ));
+            rows.push(CheckRow::at_most(name, "masked: largest |global continuity error| / V_p", SOLVER, global, number(base, "continuity_global")?));
+            rows.push(CheckRow::at_most(
+                name,
+                "masked: largest |cumulative continuity error| / V_p",
+                SOLVER,
+                cumulative,
+                number(base, "continuity_cumulative")?,
+            ));
+        }
+    }
+    // the mask's purpose (§6.7): the crossing disturbs the particle less than without it
+    rows.push(CheckRow::at_least(
+        name,
+        "unmasked / masked velocity difference (the mask helps)",
+        SOLVER,
+        largest[0] / largest[1].max(1e-300),
+        number(base, "mask_gain")?,
+    ));
+    Ok(rows)
+}
+
+/// `case` with its rotor/stator mesh refined `factor` times in r and θ.
+fn refined(case: &Case, factor: usize) -> Result<Case> {
+    let mut fine = case.clone();
+    match fine.mesh.as_mut() {
+        Some(MeshSection::RotorStator { n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, .. }) => {
+            *n_r_rotor *= factor;
+            *n_r_stator *= factor;
+            *n_theta_rotor *= factor;
+            *n_theta_stator *= factor;
+            Ok(fine)
+        }
+        _ => bail!("{}: the interface check needs a rotor_stator mesh", case.path.display()),
+    }
 }
