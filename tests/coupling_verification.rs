@@ -114,8 +114,18 @@ fn fluid_and_particle_volume_fill_the_box_at_every_step() {
     let start = run.state().particles.as_ref().unwrap().particles.len();
     let mesh_volume: f64 = run.mesh().unwrap().cell_volumes.iter().sum();
     let mut worst = 0.0f64;
+    let mut exchange = (0.0f64, 0.0f64);
     for _ in 0..25 {
         run.step().unwrap();
+        // the momentum exchange (y): what the fluid received, Σ_j (F_j − C_j u_j), against what
+        // the particles' coupled forces were, Σ_n (F_d + F_AM + F_pg) = Σ_n (K_n u_c|p − E_n);
+        // they differ by Σ_n K_n (u_c|p − ū_n): the particle sees the ψ-weighted old velocity,
+        // the fluid's implicit drag acts on the φ-weighted new one (spec §8.4)
+        let (cells, load, seen) = (run.cell_load().unwrap(), run.particle_load().unwrap(), run.fluid_at_particles());
+        let u = &run.state().fluid.as_ref().unwrap().velocity;
+        let fluid_received: f64 = (0..u.len()).map(|c| cells.explicit_force[c].y - cells.implicit_drag[c] * u[c][1]).sum();
+        let particles_coupled: f64 = (0..load.volume.len()).map(|i| load.implicit_drag[i] * seen[i].unwrap().velocity.y - load.explicit_force[i][1]).sum();
+        exchange = (exchange.0.max((fluid_received + particles_coupled).abs() / particles_coupled.abs()), particles_coupled);
         let state = run.state();
         let particles = &state.particles.as_ref().unwrap();
         let fluid: f64 = state.fluid.as_ref().unwrap().alpha.iter().zip(&run.mesh().unwrap().cell_volumes).map(|(a, v)| a * v).sum();
@@ -124,6 +134,8 @@ fn fluid_and_particle_volume_fill_the_box_at_every_step() {
         assert_eq!(particles.particles.len() as u64 + particles.escaped(), start as u64, "every particle is in the box or logged as escaped");
     }
     eprintln!("volume budget: worst |Σα_c V + ΣV_p − V| / V = {worst:.3e}");
+    eprintln!("momentum exchange: the fluid received (1 ± {:.3e}) of the particles' coupled force ({:.4} N at the last step)", exchange.0, exchange.1);
+    assert!(exchange.0.is_finite());
     // round-off of sums over 830 cells and 300 particles
     assert!(worst < 1e-13, "volume budget off by {worst:.3e}");
 }

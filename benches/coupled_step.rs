@@ -1,0 +1,105 @@
+//! Two-way coupled step, fast fluid vs reference fluid (issue 13): P3, the hindered-settling
+//! cloud (`cases/verification/coupling/hindered_settling.toml`: 2 400 cells, 288 particles,
+//! kernel γ = 1), both fluids driven by the reference DEM, so the ratio is that of the whole
+//! coupled step (mapping, DEM and fluid) as a user runs it today.
+//!
+//! `cargo bench --bench coupled_step`. The ratio is measured in one run, printed and written to
+//! `target/spillage-bench/coupled_step.json`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use criterion::{criterion_group, Criterion};
+use spillage_fast::fluid::FastFluid;
+use spillage_model::case::Case;
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_model::step::{Coupled, FluidPhase};
+use spillage_reference::dem::ReferenceDem;
+use spillage_reference::fluid::ReferenceFluid;
+
+fn p3() -> Case {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/coupling/hindered_settling.toml");
+    Case::load(&path).expect("case")
+}
+
+fn coupled<F: FluidPhase>(case: &Case, make: impl FnOnce(&Case, &mut State) -> F) -> Coupled<F, ReferenceDem> {
+    let mut state = State::default();
+    let fluid = make(case, &mut state);
+    let dem = ReferenceDem::new(case, &mut state).expect("DEM");
+    Coupled::new(case, state, Some(fluid), Some(dem)).expect("run")
+}
+
+fn fast(case: &Case) -> Coupled<FastFluid, ReferenceDem> {
+    coupled(case, |c, s| FastFluid::new(c, spillage::verify::fluid::build_mesh(c).expect("mesh"), s).expect("fast fluid"))
+}
+
+fn reference(case: &Case) -> Coupled<ReferenceFluid, ReferenceDem> {
+    coupled(case, |c, s| ReferenceFluid::new(c, spillage::verify::fluid::build_mesh(c).expect("mesh"), s).expect("reference fluid"))
+}
+
+/// Seconds per step over `steps` steps after 2 warm-up steps.
+fn seconds_per_step(s: &mut dyn Solver, steps: usize) -> f64 {
+    for _ in 0..2 {
+        s.step().expect("step");
+    }
+    let t = Instant::now();
+    for _ in 0..steps {
+        s.step().expect("step");
+    }
+    t.elapsed().as_secs_f64() / steps as f64
+}
+
+fn ratio() {
+    let case = p3();
+    let steps = 10;
+    let r = seconds_per_step(&mut reference(&case), steps);
+    let f = seconds_per_step(&mut fast(&case), steps);
+    // what the particles cost: the same fast fluid without them (no mapping, no DEM)
+    let mut water = case.clone();
+    water.particles = None;
+    water.coupling = None;
+    let mut state = State::default();
+    let fluid = FastFluid::new(&water, spillage::verify::fluid::build_mesh(&water).expect("mesh"), &mut state).expect("fast fluid");
+    let w = seconds_per_step(&mut Coupled::fluid_only(&water, state, fluid).expect("run"), steps);
+    // the mapping alone: one sample and one deposit, as a coupled step does
+    let run = fast(&case);
+    let map = spillage_model::coupling::ParticleMeshMap::new(case.coupling.as_ref().expect("[coupling]"));
+    let (fluid_phase, particles) = (run.fluid_phase().expect("fluid"), &run.state().particles.as_ref().expect("particles").particles);
+    let fluid_state = run.state().fluid.as_ref().expect("fluid state");
+    let load = spillage_model::step::ParticleLoad {
+        volume: particles.iter().map(|p| p.volume()).collect(),
+        ..spillage_model::step::ParticleLoad::zeros(particles.len())
+    };
+    let t = Instant::now();
+    let (mut seen, mut cells) = (Vec::new(), spillage_model::coupling::CellLoad::default());
+    for _ in 0..steps {
+        seen.clear();
+        map.sample(&fluid_phase.sample_source(fluid_state), particles, &mut seen);
+        map.deposit(fluid_phase.mesh(), particles, &load, &mut cells);
+    }
+    let m = t.elapsed().as_secs_f64() / steps as f64;
+    println!("P3: the mapping (sample + deposit) {m:.4} s per step");
+    println!("P3 coupled step: reference fluid {r:.4} s, fast fluid {f:.4} s per step: ratio {:.2}; the fast fluid alone {w:.4} s ({:.0} % of the fast coupled step: the rest is the reference DEM and the mapping)", r / f, 100.0 * w / f);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
+    let _ = std::fs::create_dir_all(&dir);
+    let json = format!("{{\"case\": \"hindered_settling\", \"steps\": {steps}, \"reference_seconds_per_step\": {r}, \"fast_seconds_per_step\": {f}, \"ratio\": {}, \"fast_fluid_alone_seconds_per_step\": {w}}}\n", r / f);
+    let _ = std::fs::write(dir.join("coupled_step.json"), json);
+}
+
+fn bench(c: &mut Criterion) {
+    let case = p3();
+    let mut group = c.benchmark_group("coupled_step");
+    group.sample_size(10);
+    let mut run = fast(&case);
+    group.bench_function("P3 fast fluid + reference DEM", |b| b.iter(|| run.step().expect("step")));
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+
+fn main() {
+    ratio();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}
