@@ -48,10 +48,11 @@ enum Command {
     /// Validate a case file and print the derived numbers (cells, Courant number, DEM step,
     /// Stokes numbers, memory estimate).
     Check { case: PathBuf },
-    /// Run the verification ladder: one row per checked quantity; exit status 1 if any fails.
-    /// Closed-form and semi-analytic answers the solvers are checked against
+    /// Evaluate the closed-form and semi-analytic answers the solvers are checked against
     /// (`spillage analytic --list`).
     Analytic(analytic_cmd::AnalyticArgs),
+    /// Run the verification ladder (cases/verification): one row per checked quantity against its
+    /// exact or published value; exit status 1 if any fails.
     Verify {
         /// Case files or folders (default: cases/verification).
         cases: Vec<PathBuf>,
