@@ -37,7 +37,7 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> 
         "coupling_settling" => settling(case, full, plots),
         "coupling_stokes" => stokes(case, plots),
         "coupling_hindered" => hindered(case, full, plots),
-        "coupling_hydrostatic" => hydrostatic(case),
+        "coupling_hydrostatic" => hydrostatic(case, plots),
         "coupling_interface" => interface_crossing(case, full),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }
@@ -411,7 +411,22 @@ fn pressure_gradient(solver: &Coupled<FastFluid, ReferenceDem>, band: [f64; 2], 
     Ok(density * (hi.0 / hi.1 as f64 - lo.0 / lo.1 as f64) / (y_hi - y_lo))
 }
 
-fn hydrostatic(base: &Case) -> Result<Vec<CheckRow>> {
+/// Row-mean pressure p − p(y₀) [Pa] against height, bottom row first.
+fn pressure_profile(solver: &Coupled<FastFluid, ReferenceDem>, density: f64) -> Result<Vec<(f64, f64)>> {
+    let mesh = solver.mesh().ok_or_else(|| anyhow!("no mesh"))?;
+    let fluid = solver.state().fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
+    let mut rows: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
+    for (c, x) in mesh.cell_centres.iter().enumerate() {
+        // rows of the box mesh share their centre height to round-off; key them by micrometre
+        let row = rows.entry((x.y * 1e6).round() as i64).or_default();
+        *row = (row.0 + x.y, row.1 + density * fluid.pressure[c], row.2 + 1);
+    }
+    let profile: Vec<(f64, f64)> = rows.values().map(|(y, p, n)| (y / *n as f64, p / *n as f64)).collect();
+    let p0 = profile.first().map_or(0.0, |(_, p)| *p);
+    Ok(profile.into_iter().map(|(y, p)| (y, p - p0)).collect())
+}
+
+fn hydrostatic(base: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let (cell, width) = (number(base, "cell")?, number(base, "width")?);
     let cloud = numbers(base, "cloud")?;
@@ -422,10 +437,15 @@ fn hydrostatic(base: &Case) -> Result<Vec<CheckRow>> {
     let sphere = sphere(base, 0.5)?;
     let g = sphere.gravity;
     let mut rows = Vec::new();
+    let mut profiles = Vec::new();
     for feedback in [Feedback::DragAndFluidAcceleration, Feedback::Literal] {
         let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
         case.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.feedback = feedback;
         let trace = run(&case)?;
+        // the pressure less the water's hydrostatic part: the weight the fluid carries
+        let water = fluid.density * g;
+        let profile = pressure_profile(&trace.solver, fluid.density)?;
+        profiles.push(profile.iter().map(|(y, p)| (*y, -p - water * (y - profile[0].0))).collect::<Vec<_>>());
         let measured = -pressure_gradient(&trace.solver, [band[0], band[1]], fluid.density)?;
         let mixture = (alpha_p * sphere.particle_density + (1.0 - alpha_p) * fluid.density) * g;
         let label = match feedback {
@@ -438,6 +458,20 @@ fn hydrostatic(base: &Case) -> Result<Vec<CheckRow>> {
             // the literal feedback leaves the submerged weight out: it must miss ρ_m g
             Feedback::Literal => CheckRow::at_least(name, label, SOLVER, row.error, tolerance),
         });
+    }
+    if plots.is_some() {
+        let (alpha_p, y) = (target, [band[0], band[1]]);
+        let excess = alpha_p * (sphere.particle_density - fluid.density) * g;
+        // drawn from the right-feedback curve at the band's lower end, so the slopes compare
+        let start = profiles[0].iter().min_by(|a, b| (a.0 - y[0]).abs().total_cmp(&(b.0 - y[0]).abs())).map_or(0.0, |p| p.1);
+        let slope: Vec<(f64, f64)> = vec![(y[0], start), (y[1], start + excess * (y[1] - y[0]))];
+        let series = vec![
+            Series { label: "drag + fluid acceleration fed back", points: &profiles[0] },
+            Series { label: "literal T3.2 feedback", points: &profiles[1] },
+            Series { label: "α_p (ρ_p − ρ_c) g slope (the suspension's weight)", points: &slope },
+        ];
+        let title = format!("{name}: pressure in excess of the water's hydrostatic part");
+        draw(plots, name, &Plot { title: &title, x_label: "height y [m]", y_label: "−(p − p₀) − ρ_c g (y − y₀) [Pa]", log_x: false, log_y: false, series })?;
     }
     Ok(rows)
 }
