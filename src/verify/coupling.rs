@@ -163,7 +163,7 @@ fn sphere(case: &Case, added_mass: f64) -> Result<SettlingSphere> {
 
 /// Terminal velocity (at the end time) and the largest transient deviation, both relative to
 /// the analytic terminal velocity, and the settling velocity against time.
-fn settling_errors(case: &Case) -> Result<(f64, f64, Vec<(f64, f64)>)> {
+fn settling_errors(case: &Case) -> Result<(f64, f64, Curve)> {
     let sphere = sphere(case, 0.5)?;
     let terminal = sphere.terminal_velocity(AnalyticDrag::BrownLawler)?.velocity;
     let trace = run(case)?;
@@ -173,8 +173,11 @@ fn settling_errors(case: &Case) -> Result<(f64, f64, Vec<(f64, f64)>)> {
     Ok(((last - terminal) / terminal, transient, curve(&trace)))
 }
 
+/// Points (x, y) of a figure's curve.
+type Curve = Vec<(f64, f64)>;
+
 /// (t, settling velocity) of a run.
-fn curve(trace: &Trace) -> Vec<(f64, f64)> {
+fn curve(trace: &Trace) -> Curve {
     trace.time.iter().copied().zip(trace.settling.iter().copied()).collect()
 }
 

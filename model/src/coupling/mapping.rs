@@ -186,9 +186,7 @@ impl ParticleMeshMap {
             }
         }
         // per-volume fields for α_p and the diffusion; C and F stay totals per cell
-        for c in 0..n {
-            volume[c] /= mesh.cell_volumes[c];
-        }
+        volume.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
             let diffusion = self.diffusion(mesh, particles);
             // C and F are diffused as densities (per volume) and integrated back
@@ -298,7 +296,7 @@ mod tests {
         for (i, p) in particles.iter().enumerate() {
             load.volume[i] = p.volume();
             load.implicit_drag[i] = 0.01 * (i + 1) as f64;
-            load.explicit_force[i] = [0.3, -1.0 * (i + 1) as f64, 0.2];
+            load.explicit_force[i] = [0.3, -((i + 1) as f64), 0.2];
         }
         load
     }
