@@ -18,7 +18,7 @@
 //! be used there too. The centre value counts the particle's own volume: at γ = 1, d_p/Δx = 1
 //! the host cell's α_p is 0.037, α_c^{1−β} adds 10 % drag, and the P2 particle settled 4 % slow
 //! for as long as it was within 3σ of the interface (measured 2.9e-2 m/s below the run without
-//! an interface; with ψ̂: 1.6e-3 m/s, cases/verification/coupling/interface_crossing.toml).
+//! an interface; with ψ̂: 1.6e-3 m/s; cases/coupling/interface_crossing.toml, oblique crossing).
 //!
 //! [R] The diffusion method samples its smoothed fields with the kernel's ψ̂ rather than at the
 //! particle centre: the thesis does not say how the smoothed field is sampled (§6.5), and the
