@@ -288,6 +288,7 @@ impl FastFluid {
         let particles = self.particles_active.then_some(&self.particle_sources);
         let step = StepConstants { disc, time, alpha, numerics: &self.numerics, particles };
         self.counts = SolveCounts::default();
+        self.pressure_solver.new_step();
         let mut outer_iterations = 0;
         let mut last_residual = f64::NAN;
         for _outer in 0..self.numerics.max_outer_iterations {

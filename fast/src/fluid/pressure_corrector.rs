@@ -38,6 +38,17 @@ impl PressureSolver {
         self.hierarchy_current = false;
     }
 
+    /// A new time step begins: its first solve aggregates afresh from that step's matrix. The
+    /// aggregation depends on the matrix values, so keeping one from an earlier step would make
+    /// the preconditioner — and the solution, to the solver tolerance — depend on where the run
+    /// started: a run restarted from a checkpoint must aggregate exactly as the uninterrupted
+    /// run did. (Found by the two-way coupled restart test, where α_c changes the pressure
+    /// matrix every step; with a turning rotor the pattern changes every step anyway.)
+    pub fn new_step(&mut self) {
+        self.amg.forget_aggregation();
+        self.hierarchy_current = false;
+    }
+
     /// (rows, off-diagonal entries, colours) of the multigrid levels.
     pub fn level_sizes(&self) -> Vec<(usize, usize, usize)> {
         self.amg.level_sizes()
@@ -45,8 +56,9 @@ impl PressureSolver {
 
     /// Solves `matrix` x = `rhs` from the given x, counting iterations and time in `counts`.
     fn solve(&mut self, matrix: &Csr, rhs: &[f64], x: &mut [f64], tolerance: Tolerance, counts: &mut SolveCounts) -> SolveStats {
-        // the aggregation is rebuilt only when the sparsity pattern changed (the overlap links
-        // moved), otherwise only the hierarchy's values follow the new matrix
+        // the aggregation is rebuilt at the first solve of a step and when the sparsity pattern
+        // changed (the overlap links moved), otherwise only the hierarchy's values follow the
+        // new matrix
         if !self.hierarchy_current {
             let clock = std::time::Instant::now();
             self.amg.setup(matrix);

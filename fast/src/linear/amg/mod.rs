@@ -144,6 +144,12 @@ pub struct Amg {
 }
 
 impl Amg {
+    /// Makes the next [`Amg::setup`] aggregate afresh even if the sparsity pattern is unchanged.
+    pub fn forget_aggregation(&mut self) {
+        self.pattern_rows.clear();
+        self.pattern_cols.clear();
+    }
+
     /// Builds the hierarchy for `a`: aggregation, colourings and values, or only the values
     /// when `a` has the sparsity pattern of the previous setup.
     pub fn setup(&mut self, a: &Csr) {
