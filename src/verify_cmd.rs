@@ -18,7 +18,18 @@ struct Report<'a> {
 }
 
 pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
-    let inputs = if inputs.is_empty() { vec![PathBuf::from("cases/verification")] } else { inputs.to_vec() };
+    let inputs = if inputs.is_empty() {
+        let ladder = PathBuf::from("cases/verification");
+        if !ladder.is_dir() {
+            let here = std::env::current_dir().map(|d| d.display().to_string()).unwrap_or_else(|_| ".".into());
+            anyhow::bail!(
+                "there is no cases/verification folder in {here}: run `spillage verify` from the repository root, or name the case files or folders to verify"
+            );
+        }
+        vec![ladder]
+    } else {
+        inputs.to_vec()
+    };
     let mut files = Vec::new();
     for input in &inputs {
         if input.is_dir() {

@@ -378,3 +378,15 @@ fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() 
     assert!(status.starts_with("failed:") && status.contains("did not converge"), "{status}");
     assert!(read_pvd(&out_dir.join("fluid.pvd")).unwrap().len() == 1, "the initial frame stays readable");
 }
+
+/// `spillage verify` outside the repository says where it looked and what to do (issue 15).
+#[test]
+fn verify_outside_the_repository_says_what_to_do() {
+    let dir = std::env::temp_dir().join(format!("spillage-verify-elsewhere-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_spillage")).arg("verify").current_dir(&dir).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("no cases/verification folder") && stderr.contains("repository root"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}
