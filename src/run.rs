@@ -4,7 +4,6 @@
 //! written stay valid (all are written atomically), and when a step fails a summary saying what
 //! went wrong is still written before the error is reported.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -100,11 +99,11 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
 
     let started = Instant::now();
-    let progress = progress_bar(&case, solver.state());
+    let mut progress = crate::progress::Progress::new(&case, solver.state());
     let mut run =
         Running { case: &case, out: &out, frames: Frames::new(&out, restart_time)?, series: None, restart_time, restart_step, steps: 0, step_seconds: 0.0 };
-    let result = run.time_loop(solver.as_mut(), &progress);
-    progress.finish_and_clear();
+    let result = run.time_loop(solver.as_mut(), &mut progress);
+    progress.finish();
     let wall = started.elapsed().as_secs_f64();
 
     let state = solver.state();
@@ -176,7 +175,7 @@ impl Running<'_> {
         }
     }
 
-    fn time_loop(&mut self, solver: &mut dyn Solver, progress: &indicatif::ProgressBar) -> anyhow::Result<()> {
+    fn time_loop(&mut self, solver: &mut dyn Solver, progress: &mut crate::progress::Progress) -> anyhow::Result<()> {
         let output = &self.case.output;
         let write_every = self.case.time.write_every;
         if self.restart_time.is_none() && output.paraview {
@@ -200,11 +199,7 @@ impl Running<'_> {
             if output.checkpoint_every > 0 && state.step % output.checkpoint_every == 0 {
                 self.checkpoint(state)?;
             }
-            progress.set_position(progress_position(self.case, state));
-            // the message is a new String: only built when someone can see it
-            if !progress.is_hidden() {
-                progress.set_message(live_message(state, &report));
-            }
+            progress.update(self.case, state, &report);
         }
         let state = solver.state();
         let last_written = write_every > 0 && state.step % write_every == 0;
@@ -254,37 +249,6 @@ fn coupling_frame(solver: &dyn Solver) -> CouplingFrame {
         drag_force: Some(exchange.particles.drag.clone()),
         slip_reynolds: Some(exchange.particles.slip_reynolds.clone()),
     }
-}
-
-/// Progress in thousandths of the run (steps or simulated time).
-fn progress_position(case: &Case, state: &State) -> u64 {
-    let fraction = match (case.time.steps, case.time.end_time) {
-        (Some(n), _) => state.step as f64 / n as f64,
-        (None, Some(end)) => state.time / end,
-        _ => 1.0,
-    };
-    (fraction.clamp(0.0, 1.0) * 1000.0).round() as u64
-}
-
-fn live_message(state: &State, report: &StepReport) -> String {
-    let mut msg = format!("t = {:.4e} s, step {}", state.time, state.step);
-    for (name, value) in report.values.iter().take(3) {
-        msg.push_str(&format!(", {name} {value:.3e}"));
-    }
-    msg
-}
-
-fn progress_bar(case: &Case, state: &State) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::new(1000);
-    if !std::io::stderr().is_terminal() {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
-    }
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta}  {msg}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_position(progress_position(case, state));
-    bar
 }
 
 /// One PNG per series column against time, in `plots/`.
