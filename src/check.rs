@@ -44,6 +44,7 @@ pub fn derive(case: &Case) -> Derived {
             let dz = if *two_d { f64::INFINITY } else { (z_max - z_min) / *n_z as f64 };
             (dr.min(arc).min(dz), r_outer - r_inner, Some(*r_outer))
         }
+        // r_max: the rotor zone's outer radius (its fastest cells)
         MeshSection::RotorStator {
             r_inner,
             r_interface,
@@ -69,9 +70,16 @@ pub fn derive(case: &Case) -> Derived {
         }
     };
     d.min_cell_size = Some(min_size);
+    // the fastest wall: a rotating boundary at its own radius (the inner circle at r_inner, the
+    // outer one and the end walls out to r_outer), the rotor zone at its outer radius
+    let (r_inner, r_outer) = match mesh {
+        MeshSection::Annulus { r_inner, r_outer, .. } | MeshSection::RotorStator { r_inner, r_outer, .. } => (*r_inner, *r_outer),
+        MeshSection::Box { .. } => (0.0, 0.0),
+    };
     let mut speed: f64 = 0.0;
-    for bc in case.boundary.values() {
-        if let Some(u) = bc.imposed_speed(r_max.unwrap_or(0.0)) {
+    for (name, bc) in &case.boundary {
+        let radius = if name == "inner" { r_inner } else { r_outer };
+        if let Some(u) = bc.imposed_speed(radius) {
             speed = speed.max(u);
         }
     }
@@ -203,5 +211,22 @@ mod tests {
         let total: f64 = (0..n).map(|i| first * r.powi(i as i32)).sum();
         assert!((total - len).abs() < 1e-12);
         assert!((smallest_graded_cell(len, n, 1.0 / g) - first).abs() < 1e-12);
+    }
+
+    /// The velocity scale is the fastest wall at its own radius (issue 15 item 2): the sliding
+    /// Couette case (rotor ω = 1 out to the interface at r = 1.5) with its outer wall (r = 2)
+    /// turning at 0.5 rad/s moves fastest at the outer wall, 1.0 m/s; evaluated at the
+    /// interface radius it read 0.75.
+    #[test]
+    fn velocity_scale_is_the_fastest_wall_at_its_radius() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/fluid/couette_sliding.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let text = text
+            .replace("omega = 1.0", "omega = 0.5")
+            .replace("[boundary.outer]\ntype = \"wall\"", "[boundary.outer]\ntype = \"wall\"\nangular_velocity = 0.5");
+        assert!(text.contains("angular_velocity = 0.5"), "the edit found the outer wall");
+        let case = Case::from_toml(&text, &path).unwrap();
+        let u = derive(&case).velocity_scale.unwrap();
+        assert!((u - 1.0).abs() < 1e-12, "velocity scale {u}");
     }
 }
