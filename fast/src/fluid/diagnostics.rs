@@ -14,6 +14,8 @@ use crate::linear::reduce::Reducer;
 pub struct StepDiagnostics {
     /// Δt Σ_c |e_c| [m³].
     pub continuity_local: f64,
+    /// Δt max_c |e_c| [m³] (the thesis' V_err,local, particle-verification.md §3).
+    pub continuity_cell_max: f64,
     /// Δt Σ_c e_c [m³].
     pub continuity_global: f64,
     /// max_c ½Δt Σ_f |φ_f − φ_mesh,f| / V.
@@ -40,10 +42,12 @@ pub fn step_diagnostics(
     let (errors, courant, u, vol, a) = (&work.continuity_error, &work.courant, solution.velocity, disc.cell_volumes, alpha.current);
     let [sum_abs, sum] = reducer.sum2(n, |c| [errors[c].abs(), errors[c]]);
     let courant_max = reducer.max(n, |c| courant[c]).max(0.0);
+    let cell_max = reducer.max(n, |c| errors[c].abs()).max(0.0);
     let kinetic_energy = reducer.sum(n, |c| 0.5 * a[c] * (u[0][c] * u[0][c] + u[1][c] * u[1][c] + u[2][c] * u[2][c]) * vol[c]);
     let throughput = overlap_fluxes_onto_faces(disc.links, solution.link_flux, work);
     StepDiagnostics {
         continuity_local: dt * sum_abs,
+        continuity_cell_max: dt * cell_max,
         continuity_global: dt * sum,
         courant_max,
         kinetic_energy,

@@ -62,6 +62,7 @@ pub fn write_report(report: &mut StepReport, diagnostics: &StepDiagnostics, tota
     report.values.extend_from_slice(&[
         ("courant_max", diagnostics.courant_max),
         ("continuity_local", diagnostics.continuity_local),
+        ("continuity_cell_max", diagnostics.continuity_cell_max),
         ("continuity_global", diagnostics.continuity_global),
         ("continuity_cumulative", totals.continuity_cumulative),
         ("kinetic_energy", diagnostics.kinetic_energy),

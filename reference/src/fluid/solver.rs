@@ -208,6 +208,7 @@ impl ReferenceFluid {
         // diagnostics before the time levels shift (∂α/∂t uses this step's levels)
         let errors = diagnostics::continuity_errors(&inputs, &link_flux, &boundary_flux);
         let local = dt * errors.iter().map(|e| e.abs()).sum::<f64>();
+        let cell_max = dt * errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
         let global = dt * errors.iter().sum::<f64>();
         let courant = diagnostics::max_courant(&geo, &volumes, dt, &link_flux, &boundary_flux);
         let imbalance = diagnostics::interface_imbalance(&geo, &link_flux, self.mesh.face_areas.len());
@@ -244,6 +245,7 @@ impl ReferenceFluid {
         report.values.extend([
             ("courant_max", courant),
             ("continuity_local", local),
+            ("continuity_cell_max", cell_max),
             ("continuity_global", global),
             ("continuity_cumulative", cumulative),
             ("kinetic_energy", kinetic),
