@@ -347,9 +347,20 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
     let fractions = numbers(base, if full { "full_fractions" } else { "fractions" })?;
     let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
     let (cell, width) = (number(base, "cell")?, number(base, "width")?);
-    let cloud = numbers(base, "cloud")?;
     let window = numbers(base, "window")?;
     let sphere = sphere(base, 0.5)?;
+    // `--full` runs a taller cloud in a taller column: the widest kernel (γ = 3, support 9 cm)
+    // must see a cloud interior, not mostly its fronts
+    let (base, cloud) = if full {
+        let mut tall = base.clone();
+        let (mut max, cells) = box_size(base)?;
+        max[1] = number(base, "full_column_height")?;
+        set_box(&mut tall, max, cells)?;
+        (std::borrow::Cow::Owned(tall), numbers(base, "full_cloud")?)
+    } else {
+        (std::borrow::Cow::Borrowed(base), numbers(base, "cloud")?)
+    };
+    let base = base.as_ref();
     let mut rows = Vec::new();
     let mut measured_points: Vec<(String, Vec<(f64, f64)>)> = mappings.iter().map(|m| (m.replace(':', " γ = "), Vec::new())).collect();
     for &target in &fractions {
