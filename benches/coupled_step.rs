@@ -18,6 +18,10 @@ use spillage_model::step::{Coupled, FluidPhase};
 use spillage_reference::dem::ReferenceDem;
 use spillage_reference::fluid::ReferenceFluid;
 
+#[path = "common/timing.rs"]
+mod timing;
+use timing::seconds_per_step;
+
 fn p3() -> Case {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/coupling/hindered_settling.toml");
     Case::load(&path).expect("case")
@@ -36,18 +40,6 @@ fn fast(case: &Case) -> Coupled<FastFluid, ReferenceDem> {
 
 fn reference(case: &Case) -> Coupled<ReferenceFluid, ReferenceDem> {
     coupled(case, |c, s| ReferenceFluid::new(c, spillage::verify::fluid::build_mesh(c).expect("mesh"), s).expect("reference fluid"))
-}
-
-/// Seconds per step over `steps` steps after 2 warm-up steps.
-fn seconds_per_step(s: &mut dyn Solver, steps: usize) -> f64 {
-    for _ in 0..2 {
-        s.step().expect("step");
-    }
-    let t = Instant::now();
-    for _ in 0..steps {
-        s.step().expect("step");
-    }
-    t.elapsed().as_secs_f64() / steps as f64
 }
 
 fn ratio() {

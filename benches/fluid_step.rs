@@ -23,6 +23,10 @@ use spillage_model::state::State;
 use spillage_model::step::{Coupled, FluidOnly};
 use spillage_reference::fluid::ReferenceFluid;
 
+#[path = "common/timing.rs"]
+mod timing;
+use timing::seconds_per_step;
+
 #[path = "common/triad.rs"]
 mod triad;
 use triad::triad;
@@ -51,18 +55,6 @@ fn reference_solver(case: &Case) -> FluidOnly<ReferenceFluid> {
     let mut state = State::default();
     let fluid = ReferenceFluid::new(case, mesh, &mut state).expect("reference solver");
     Coupled::fluid_only(case, state, fluid).expect("reference run")
-}
-
-/// Seconds per step over `steps` steps after 2 warm-up steps.
-fn time_steps(s: &mut dyn Solver, steps: usize) -> f64 {
-    for _ in 0..2 {
-        s.step().expect("step");
-    }
-    let t = Instant::now();
-    for _ in 0..steps {
-        s.step().expect("step");
-    }
-    t.elapsed().as_secs_f64() / steps as f64
 }
 
 fn pool(threads: usize) -> rayon::ThreadPool {
@@ -142,10 +134,10 @@ fn measure(name: String, case: &Case, steps: usize, with_reference: bool) -> Row
     let (mut solver_1, mut solver_2) = (fast_solver(case), fast_solver(case));
     let (mut fast_1, mut fast_2) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..ROUNDS {
-        fast_1 = fast_1.min(pool_1.install(|| time_steps(&mut solver_1, steps)));
-        fast_2 = fast_2.min(pool_2.install(|| time_steps(&mut solver_2, steps)));
+        fast_1 = fast_1.min(pool_1.install(|| seconds_per_step(&mut solver_1, steps)));
+        fast_2 = fast_2.min(pool_2.install(|| seconds_per_step(&mut solver_2, steps)));
     }
-    let reference = with_reference.then(|| pool(2).install(|| time_steps(&mut reference_solver(case), steps.min(5))));
+    let reference = with_reference.then(|| pool(2).install(|| seconds_per_step(&mut reference_solver(case), steps.min(5))));
     let r = Row { workload: name, cells, fast_1, fast_2, reference };
     eprintln!(
         "{:<28} {:>8} cells  fast 1t {:>9.3} ms ({:>6.2} µs/cell-step)  2t {:>9.3} ms (×{:.2})  reference {}",
@@ -251,7 +243,7 @@ fn main() {
         let steps: usize = std::env::var("SPILLAGE_PEER_STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or(20);
         let case = lid(n);
         let mut solver = fast_solver(&case);
-        let t = pool(1).install(|| time_steps(&mut solver, steps));
+        let t = pool(1).install(|| seconds_per_step(&mut solver, steps));
         eprintln!("{:?}", solver.fluid_phase().expect("fluid").last_counts());
         println!("fast_s_per_step {t:.6e} cells {}", n * n);
         return;
