@@ -161,8 +161,8 @@ fn interface_crossing_conserves_and_the_mask_helps() {
 }
 
 /// A two-way coupled run restarted from a checkpoint continues bit-for-bit: α_c at its three
-/// time levels travels in the state, the mapping is rebuilt from the particles (the hindered
-/// cloud, 20 + 20 steps, with contacts-free settling and the return flow under way).
+/// time levels travels in the state, the mapping is rebuilt from the particles (the settling
+/// suspension of the hydrostatic case, 20 + 20 steps, its return flow under way).
 #[test]
 fn a_coupled_run_restarts_bit_for_bit() {
     let case = case("hydrostatic_suspension.toml");

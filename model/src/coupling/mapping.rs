@@ -118,31 +118,32 @@ impl ParticleMeshMap {
         Diffusion::new(mesh, 0.5 * (self.distance_factor * mean).powi(2))
     }
 
-    /// The kernel stencils of `particles` on `mesh` at its current position.
-    fn stencils(&self, mesh: &Mesh, particles: &[Particle]) -> Vec<(usize, Stencil)> {
-        let d_max = particles.iter().map(|p| p.diameter).fold(0.0, f64::max);
-        let search = CellSearch::new(mesh, self.support(d_max));
-        let walls = kernel::wall_faces(mesh);
-        let geo = KernelGeometry { mesh, search: &search, wall_faces: &walls, truncate_at_interface: !mesh.interfaces.is_empty() };
-        let mut scratch = Vec::new();
-        particles
-            .iter()
-            .map(|p| {
-                let host = host_cell(mesh, &p.position);
-                (host, kernel::stencil(&geo, &p.position, p.diameter, self.distance_factor, host, &mut scratch))
-            })
-            .collect()
+    /// The largest kernel support 3γ d_max among `particles`.
+    fn largest_support(&self, particles: &[Particle]) -> f64 {
+        self.support(particles.iter().map(|p| p.diameter).fold(0.0, f64::max))
     }
 
-    /// Cells within 3γ d_max of a sliding-interface face (empty mask without interfaces, without
-    /// particles or with `interface_mask = false`).
-    fn mask(&self, mesh: &Mesh, particles: &[Particle], masked: &mut [bool]) {
-        masked.iter_mut().for_each(|m| *m = false);
-        if !self.interface_mask || mesh.interfaces.is_empty() || particles.is_empty() {
-            return;
-        }
-        let radius = self.support(particles.iter().map(|p| p.diameter).fold(0.0, f64::max));
-        let search = CellSearch::new(mesh, radius);
+    /// The cell search of `mesh` at its current position, binned at the largest support.
+    fn cell_search(&self, mesh: &Mesh, particles: &[Particle]) -> CellSearch {
+        CellSearch::new(mesh, self.largest_support(particles))
+    }
+
+    /// Whether the ∂α/∂t mask applies (an interface, particles and `interface_mask` on).
+    fn masking(&self, mesh: &Mesh, particles: &[Particle]) -> bool {
+        self.interface_mask && !mesh.interfaces.is_empty() && !particles.is_empty()
+    }
+
+    /// The kernel stencils of `particles` on `mesh` at its current position.
+    fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch) -> Vec<Stencil> {
+        let walls = kernel::wall_faces(mesh);
+        let geo = KernelGeometry { mesh, search, wall_faces: &walls, truncate_at_interface: !mesh.interfaces.is_empty() };
+        let mut scratch = Vec::new();
+        particles.iter().map(|p| kernel::stencil(&geo, &p.position, p.diameter, self.distance_factor, host_cell(mesh, &p.position), &mut scratch)).collect()
+    }
+
+    /// Cells within 3γ d_max of a sliding-interface face (call only when [`Self::masking`]).
+    fn mask(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch, masked: &mut [bool]) {
+        let radius = self.largest_support(particles);
         let mut near = Vec::new();
         for patch in mesh.patches.iter().filter(|p| matches!(p.kind, PatchKind::Interface { .. })) {
             for f in patch.faces() {
@@ -160,7 +161,11 @@ impl ParticleMeshMap {
     pub fn deposit(&self, mesh: &Mesh, particles: &[Particle], load: &ParticleLoad, out: &mut CellLoad) {
         let n = mesh.n_cells();
         *out = CellLoad::zeros(n);
-        self.mask(mesh, particles, &mut out.masked);
+        // one binning of the cell centres serves the mask and the kernel
+        let search = (self.method == MappingMethod::Kernel || self.masking(mesh, particles)).then(|| self.cell_search(mesh, particles));
+        if let Some(search) = search.as_ref().filter(|_| self.masking(mesh, particles)) {
+            self.mask(mesh, particles, search, &mut out.masked);
+        }
         let mut volume = vec![0.0; n];
         let mut drag = vec![0.0; n];
         let mut force = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
@@ -173,7 +178,8 @@ impl ParticleMeshMap {
         };
         match self.method {
             MappingMethod::Kernel => {
-                for (i, (_, s)) in self.stencils(mesh, particles).iter().enumerate() {
+                let search = search.as_ref().expect("built for the kernel method");
+                for (i, s) in self.stencils(mesh, particles, search).iter().enumerate() {
                     for (&c, &w) in s.cells.iter().zip(&s.deposit) {
                         add(c, w, i);
                     }
@@ -235,7 +241,7 @@ impl ParticleMeshMap {
         }
         match self.method {
             MappingMethod::Kernel | MappingMethod::Diffusion => {
-                for (_, s) in self.stencils(mesh, particles) {
+                for s in self.stencils(mesh, particles, &self.cell_search(mesh, particles)) {
                     let (mut u, mut a, mut alpha) = (Vec3::zeros(), Vec3::zeros(), 0.0);
                     for (&c, &w) in s.cells.iter().zip(&s.sample) {
                         u += at(&velocity, c) * w;
