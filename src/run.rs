@@ -38,9 +38,10 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
         spillage_model::step::check_state_matches_case(case, restart).map_err(located)?;
     }
     let mut state = state.unwrap_or_default();
-    let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, &case.mesh) {
-        (Some(_), Some(section)) => {
-            let mesh = spillage_model::mesh::build(section).map_err(|e| anyhow::anyhow!("{}: [mesh]: {e}", case.path.display()))?;
+    let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, spillage_model::mesh::for_case(case)) {
+        (Some(_), Some(mesh)) => {
+            let section = if case.cutter_head.is_some() { "[cutter_head]" } else { "[mesh]" };
+            let mesh = mesh.map_err(|e| anyhow::anyhow!("{}: {section}: {e}", case.path.display()))?;
             Some(match choice {
                 SolverChoice::Fast => Box::new(spillage_fast::fluid::FastFluid::new(case, mesh, &mut state).map_err(located)?),
                 SolverChoice::Reference => Box::new(spillage_reference::fluid::ReferenceFluid::new(case, mesh, &mut state).map_err(located)?),

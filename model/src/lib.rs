@@ -8,6 +8,7 @@ pub mod case;
 pub mod checkpoint;
 pub mod closure;
 pub mod coupling;
+pub mod cutter_head;
 pub mod fluid;
 pub mod mesh;
 pub mod output;

@@ -36,6 +36,9 @@ pub struct Case {
     #[serde(default)]
     pub numerics: NumericsSection,
     pub mesh: Option<MeshSection>,
+    /// A parametric cutter head: it makes the fluid mesh (instead of `[mesh]`) and the DEM
+    /// walls of the head.
+    pub cutter_head: Option<crate::cutter_head::CutterHeadSection>,
     pub rotor: Option<RotorSection>,
     /// Boundary condition per mesh patch name.
     #[serde(default)]
@@ -76,7 +79,8 @@ impl Case {
             CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(message) }
         })?;
         case.path = path.to_path_buf();
-        case.validate().map_err(|field| {
+        let validated = case.validate().and_then(|()| case.add_suction_condition());
+        validated.map_err(|field| {
             let (line, column) = match locate::key_position(text, &field.key) {
                 Some((l, c)) => (Some(l), Some(c)),
                 None => (None, None),
@@ -84,6 +88,17 @@ impl Case {
             CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Invalid(field) }
         })?;
         Ok(case)
+    }
+
+    /// A cutter head's pipe end gets the uniform axial velocity that carries
+    /// `cutter_head.suction_discharge` out through the exact area of its faces.
+    fn add_suction_condition(&mut self) -> Result<(), FieldError> {
+        let Some(head) = &self.cutter_head else { return Ok(()) };
+        let area = crate::cutter_head::fluid_mesh::suction_area(head)
+            .map_err(|e| FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"))?;
+        let velocity = head.suction_discharge / area;
+        self.boundary.insert("suction".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity] });
+        Ok(())
     }
 
     /// Range and consistency checks across sections.
@@ -100,10 +115,23 @@ impl Case {
         if let Some(mesh) = &self.mesh {
             mesh.validate()?;
         }
+        if let Some(head) = &self.cutter_head {
+            head.validate()?;
+            if self.mesh.is_some() {
+                return Err(FieldError::new("mesh", "(a [mesh] with a [cutter_head])", "no [mesh]: the [cutter_head] makes its own mesh"));
+            }
+            if self.fluid.is_none() {
+                return Err(FieldError::new("fluid", "(missing)", "a [fluid] section with a [cutter_head]"));
+            }
+            if self.rotor.is_none() {
+                return Err(FieldError::new("rotor", "(missing)", "a [rotor] section (rpm or omega) with a [cutter_head]"));
+            }
+        }
+        let rotor_mesh = matches!(self.mesh, Some(MeshSection::RotorStator { .. })) || self.cutter_head.is_some();
         if let Some(rotor) = &self.rotor {
             rotor.validate()?;
             match &self.mesh {
-                Some(MeshSection::RotorStator { .. }) if rotor.zone == "rotor" => {
+                _ if rotor_mesh && rotor.zone == "rotor" => {
                     // The generator builds the rotor about the z axis through the origin.
                     let [ax, ay, az] = rotor.axis;
                     if ax != 0.0 || ay != 0.0 || az == 0.0 {
@@ -117,8 +145,8 @@ impl Case {
                         ));
                     }
                 }
-                Some(MeshSection::RotorStator { .. }) => {
-                    return Err(FieldError::new("rotor.zone", format!("{:?}", rotor.zone), "\"rotor\" (the zone made by the rotor_stator generator)"))
+                _ if rotor_mesh => {
+                    return Err(FieldError::new("rotor.zone", format!("{:?}", rotor.zone), "\"rotor\" (the zone made by the rotor_stator and cutter_head meshes)"))
                 }
                 _ if self.fluid.is_some() => {
                     return Err(FieldError::new("rotor", "(a rotor on a mesh without a rotor zone)", "a [rotor] only with mesh.generator = \"rotor_stator\""))
@@ -126,15 +154,29 @@ impl Case {
                 _ => {}
             }
         }
-        if self.fluid.is_some() != self.mesh.is_some() {
+        let has_mesh = self.mesh.is_some() || self.cutter_head.is_some();
+        if self.fluid.is_some() != has_mesh {
             let missing = if self.fluid.is_some() { "mesh" } else { "fluid" };
-            return Err(FieldError::new(missing, "(missing)", "[fluid] and [mesh] together: a fluid needs a mesh and a mesh needs a fluid"));
+            return Err(FieldError::new(missing, "(missing)", "[fluid] and [mesh] (or [cutter_head]) together: a fluid needs a mesh and a mesh needs a fluid"));
         }
         if self.fluid.is_none() && self.particles.is_none() {
             return Err(FieldError::new("fluid", "(missing)", "a [fluid] with a [mesh], or [particles], or both"));
         }
-        if let Some(mesh) = &self.mesh {
-            let patches = mesh.boundary_patches();
+        let patches = match (&self.mesh, &self.cutter_head) {
+            (Some(mesh), _) => Some(mesh.boundary_patches()),
+            (None, Some(_)) => {
+                if self.boundary.contains_key("suction") {
+                    return Err(FieldError::new(
+                        "boundary.suction",
+                        "(a [boundary.suction] section)",
+                        "none: the suction's velocity follows from cutter_head.suction_discharge",
+                    ));
+                }
+                Some(crate::cutter_head::fluid_mesh::PATCHES.iter().filter(|p| **p != "suction").map(|p| p.to_string()).collect::<Vec<_>>())
+            }
+            (None, None) => None,
+        };
+        if let Some(patches) = patches {
             for name in self.boundary.keys() {
                 if !patches.iter().any(|p| p == name) {
                     return Err(FieldError::new(format!("boundary.{name}"), format!("{name:?}"), format!("a patch of this mesh: {}", patches.join(", "))));

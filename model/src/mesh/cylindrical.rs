@@ -63,7 +63,7 @@ pub struct RotorStatorSpec {
 }
 
 /// Appends one cylindrical block's points and cells; returns its locator entry.
-fn add_block(points: &mut Vec<Vec3>, cells: &mut Vec<[usize; 8]>, r_edges: Vec<f64>, n_theta: usize, z_edges: Vec<f64>, zone: usize) -> CylinderBlock {
+pub(super) fn add_block(points: &mut Vec<Vec3>, cells: &mut Vec<[usize; 8]>, r_edges: Vec<f64>, n_theta: usize, z_edges: Vec<f64>, zone: usize) -> CylinderBlock {
     let (n_r, n_z) = (r_edges.len() - 1, z_edges.len() - 1);
     let first_point = points.len();
     let first_cell = cells.len();
@@ -94,7 +94,7 @@ fn add_block(points: &mut Vec<Vec3>, cells: &mut Vec<[usize; 8]>, r_edges: Vec<f
             }
         }
     }
-    CylinderBlock { r_edges, n_theta, z_edges, first_cell, zone }
+    CylinderBlock { r_edges, n_theta, z_edges, first_cell, zone, cell_of_slot: Vec::new(), blocked: Vec::new() }
 }
 
 fn check_radii(names: &[&str], radii: &[f64]) -> Result<(), MeshError> {
@@ -124,10 +124,10 @@ fn check_heights(z_min: f64, z_max: f64) -> Result<(), MeshError> {
 }
 
 /// Which cylindrical index direction and side a local hexahedron face is (see HEX_FACES).
-const LOCAL_INNER: usize = 0;
-const LOCAL_OUTER: usize = 1;
-const LOCAL_Z_MIN: usize = 4;
-const LOCAL_Z_MAX: usize = 5;
+pub(super) const LOCAL_INNER: usize = 0;
+pub(super) const LOCAL_OUTER: usize = 1;
+pub(super) const LOCAL_Z_MIN: usize = 4;
+pub(super) const LOCAL_Z_MAX: usize = 5;
 
 impl Mesh {
     /// Generate the annulus described by `spec`.
@@ -236,11 +236,22 @@ impl Mesh {
 
 /// Faces of an interface patch ordered by (z layer, θ index), from their owners' indices.
 fn interface_faces(mesh: &Mesh, patch: &str, first_cell: usize, n_r: usize, n_theta: usize) -> Result<Vec<usize>, MeshError> {
+    interface_faces_by(mesh, patch, n_theta, |cell| {
+        let local = cell - first_cell;
+        ((local / n_r) % n_theta, local / (n_r * n_theta))
+    })
+}
+
+/// Faces of an interface patch ordered by (z layer, θ index); `jk` gives an owner cell's
+/// (θ index, z layer).
+pub(super) fn interface_faces_by(mesh: &Mesh, patch: &str, n_theta: usize, jk: impl Fn(usize) -> (usize, usize)) -> Result<Vec<usize>, MeshError> {
     let range = mesh.patch(patch)?.faces();
     let mut faces = vec![usize::MAX; range.len()];
     for f in range {
-        let local = mesh.face_owner[f] - first_cell;
-        let (j, k) = ((local / n_r) % n_theta, local / (n_r * n_theta));
+        let (j, k) = jk(mesh.face_owner[f]);
+        if k * n_theta + j >= faces.len() {
+            return Err(MeshError::Topology(format!("patch {patch}: face {f} outside the interface grid")));
+        }
         faces[k * n_theta + j] = f;
     }
     if faces.contains(&usize::MAX) {

@@ -4,6 +4,16 @@ use crate::case::MeshSection;
 
 use super::{AnnulusSpec, BoxSpec, Mesh, MeshError, PatchKind, RotorStatorSpec, Vec3};
 
+/// The mesh of a case: its `[mesh]` generator, or the mesh its `[cutter_head]` makes; `None`
+/// without either.
+pub fn for_case(case: &crate::case::Case) -> Option<Result<Mesh, MeshError>> {
+    match (&case.mesh, &case.cutter_head) {
+        (Some(section), _) => Some(build(section)),
+        (None, Some(head)) => Some(crate::cutter_head::fluid_mesh::build(head)),
+        (None, None) => None,
+    }
+}
+
 /// Runs the generator named in the case and marks the front and back of 2-D meshes `Empty`.
 pub fn build(section: &MeshSection) -> Result<Mesh, MeshError> {
     let (mut mesh, two_d) = match section {

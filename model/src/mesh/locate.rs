@@ -20,6 +20,14 @@ pub struct CylinderBlock {
     pub first_cell: usize,
     /// Zone of the block's cells (its rotation angle is undone before inverting the map).
     pub zone: usize,
+    /// For a block with blocked (solid) slots: the cell of each slot `i + n_r (j + n_θ k)`;
+    /// a blocked slot holds the nearest open cell instead (see `blocked`). Empty when every
+    /// slot is a cell (`first_cell + slot`).
+    #[serde(default)]
+    pub cell_of_slot: Vec<usize>,
+    /// Which slots are solid (empty when none is).
+    #[serde(default)]
+    pub blocked: Vec<bool>,
 }
 
 /// Index map kept by the generators for [`Mesh::locate`].
@@ -90,8 +98,16 @@ impl Mesh {
         let theta = (point.y.atan2(point.x) - angle).rem_euclid(TAU);
         let j = ((theta / TAU * block.n_theta as f64) as usize).min(block.n_theta - 1);
         let i = interval(&block.r_edges, r).unwrap_or(0);
-        let guess = block.first_cell + i + n_r * (j + block.n_theta * k);
-        self.walk_to(guess, point)
+        let slot = i + n_r * (j + block.n_theta * k);
+        if block.cell_of_slot.is_empty() {
+            return self.walk_to(block.first_cell + slot, point);
+        }
+        if block.blocked[slot] {
+            // a point in a solid's staircase cell (the cells stand in for a thinner true
+            // surface) belongs to the nearest open cell
+            return Some(block.cell_of_slot[slot]);
+        }
+        self.walk_to(block.cell_of_slot[slot], point)
     }
 
     /// Walk from `start` across the face the point lies most beyond until a cell contains it;

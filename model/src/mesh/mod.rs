@@ -21,6 +21,7 @@
 use nalgebra::Vector3;
 
 pub mod assemble;
+pub mod blocked;
 pub mod cartesian;
 pub mod cylindrical;
 pub mod from_case;
@@ -29,9 +30,10 @@ pub mod locate;
 pub mod motion;
 pub mod sliding_interface;
 
+pub use blocked::{BlockedRotorStator, BLOCKED_ROTOR_STATOR_PATCHES};
 pub use cartesian::BoxSpec;
 pub use cylindrical::{AnnulusSpec, RotorStatorSpec};
-pub use from_case::build;
+pub use from_case::{build, for_case};
 pub use locate::Locator;
 pub use sliding_interface::{overlap_1d, InterfaceFrame, Overlap, Overlap1d, OverlapLinkGeometry, SlidingInterface};
 

@@ -1,0 +1,164 @@
+//! The fluid mesh of a cutter head: a cylindrical rotor zone (shaft to the sliding interface)
+//! inside a stator zone (interface to the tank wall), every rotor cell a solid touches removed
+//! ([`CutterHead::touches_solid`]), its faces toward the fluid the rotating wall patch `head`.
+//!
+//! Layers follow the head: graded from `outer_cell_size` at the tank floor to `cell_size` at
+//! the hub plate, then `cell_size` through hub plate, head, ring and pipe, so the ring's
+//! underside (z = 0) and the hub (z = −H) are layer edges. Radially the rotor is uniform at
+//! `cell_size`; the stator is graded to `outer_cell_size` at the tank wall.
+
+use std::f64::consts::TAU;
+
+use super::geometry::CutterHead;
+use super::settings::CutterHeadSection;
+use crate::mesh::cartesian::graded_edges;
+use crate::mesh::{BlockedRotorStator, Mesh, MeshError, BLOCKED_ROTOR_STATOR_PATCHES};
+
+/// The patches that need a `[boundary.*]` condition: `shaft` (the rotating shaft), `tank`
+/// (the tank wall), `floor`, `top` (the water surface around the pipe), `head` (every face of
+/// the head's solids), `suction` (the end of the pipe).
+pub const PATCHES: [&str; 6] = ["shaft", "tank", "floor", "top", "head", "suction"];
+
+fn cells_over(length: f64, size: f64) -> usize {
+    ((length / size).round() as usize).max(1)
+}
+
+/// The z edges of the mesh, bottom to top.
+pub fn z_edges(head: &CutterHead, section: &CutterHeadSection) -> Result<Vec<f64>, MeshError> {
+    let (h, ho) = (section.mesh.cell_size, section.mesh.outer_cell_size);
+    let floor = head.hub_bottom() - section.tank.below_hub;
+    let below = section.tank.below_hub;
+    let mut edges = graded_edges("tank.below_hub", floor, head.hub_bottom(), cells_over(below, 0.5 * (h + ho)), h / ho)?;
+    for (start, end) in [(head.hub_bottom(), -head.height()), (-head.height(), 0.0), (0.0, head.ring_top()), (head.ring_top(), head.pipe_top())] {
+        let segment = graded_edges("cutter_head.mesh.cell_size", start, end, cells_over(end - start, h), 1.0)?;
+        edges.extend_from_slice(&segment[1..]);
+    }
+    Ok(edges)
+}
+
+/// The generator input: edges, resolutions and the blocked rotor slots.
+pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorStator, MeshError> {
+    let head = CutterHead::new(section);
+    let (h, ho) = (section.mesh.cell_size, section.mesh.outer_cell_size);
+    let ri = section.mesh.interface_radius;
+    let rotor_r = graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, ri, cells_over(ri - head.shaft_radius, h).max(2), 1.0)?;
+    let stator_r = graded_edges("cutter_head.mesh.outer_cell_size", ri, section.tank.radius, cells_over(section.tank.radius - ri, 0.5 * (h + ho)), ho / h)?;
+    let z = z_edges(&head, section)?;
+    let n_theta_rotor = ((TAU * head.radius_at(0.0) / h).ceil() as usize).max(3);
+    let n_theta_stator = ((TAU * ri / h).ceil() as usize).max(3);
+    let n_r = rotor_r.len() - 1;
+    let mut blocked = Vec::with_capacity(n_r * n_theta_rotor * (z.len() - 1));
+    for k in 0..z.len() - 1 {
+        for j in 0..n_theta_rotor {
+            let theta = [TAU * j as f64 / n_theta_rotor as f64, TAU * (j + 1) as f64 / n_theta_rotor as f64];
+            for i in 0..n_r {
+                blocked.push(head.touches_solid([rotor_r[i], rotor_r[i + 1]], theta, [z[k], z[k + 1]]).is_some());
+            }
+        }
+    }
+    Ok(BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, suction_radius: head.opening_radius })
+}
+
+/// Area of the `suction` patch: the open top-layer rotor faces whose centre lies inside the
+/// pipe, each a planar quad of area ½ sin(2π/n_θ)(r_o² − r_i²).
+pub fn suction_area(section: &CutterHeadSection) -> Result<f64, MeshError> {
+    let spec = blocked_rotor_stator(section)?;
+    let (n_r, n_t) = (spec.rotor_r.len() - 1, spec.n_theta_rotor);
+    let top = spec.z_edges.len() - 2;
+    let dtheta = TAU / n_t as f64;
+    let mut area = 0.0;
+    for j in 0..n_t {
+        for i in 0..n_r {
+            let (r0, r1) = (spec.rotor_r[i], spec.rotor_r[i + 1]);
+            if !spec.blocked[i + n_r * (j + n_t * top)] && 0.5 * (r0 + r1) * (0.5 * dtheta).cos() < spec.suction_radius {
+                area += 0.5 * dtheta.sin() * (r1 * r1 - r0 * r0);
+            }
+        }
+    }
+    if area <= 0.0 {
+        return Err(MeshError::input("cutter_head.mesh.cell_size", section.mesh.cell_size, "cells small enough that the pipe has open cells at its end"));
+    }
+    Ok(area)
+}
+
+/// The cutter head's fluid mesh, with the patch names of [`PATCHES`].
+pub fn build(section: &CutterHeadSection) -> Result<Mesh, MeshError> {
+    debug_assert!(BLOCKED_ROTOR_STATOR_PATCHES.iter().filter(|p| !p.starts_with("interface")).eq(PATCHES.iter()));
+    Mesh::rotor_stator_blocked(&blocked_rotor_stator(section)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::test_support::*;
+
+    pub(crate) fn section(cell_size: f64) -> CutterHeadSection {
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../cases/cutter_head.toml")).unwrap();
+        let case = crate::case::Case::from_toml(&text, std::path::Path::new("cutter_head.toml")).unwrap();
+        let mut head = case.cutter_head.unwrap();
+        head.mesh.cell_size = cell_size;
+        head
+    }
+
+    fn polygon_ring(n: usize, r0: f64, r1: f64) -> f64 {
+        0.5 * n as f64 * (TAU / n as f64).sin() * (r1 * r1 - r0 * r0)
+    }
+
+    #[test]
+    fn the_head_mesh_is_closed_and_its_cells_plus_solids_fill_the_tank() {
+        let section = section(0.04);
+        let spec = blocked_rotor_stator(&section).unwrap();
+        let mesh = build(&section).unwrap();
+        assert_cells_closed(&mesh);
+        assert_internal_faces_oriented(&mesh);
+        assert_boundary_faces_outward(&mesh);
+        let n_blocked = spec.blocked.iter().filter(|&&b| b).count();
+        assert!(n_blocked > 0 && mesh.patch("head").unwrap().len > 0);
+        // open cells + blocked slots = the two polygonal annuli, to round-off (1e-12: sums of
+        // ~1e4 volumes with coordinates from sin/cos)
+        let (n_r, n_t) = (spec.rotor_r.len() - 1, spec.n_theta_rotor);
+        let mut blocked_volume = 0.0;
+        for (slot, _) in spec.blocked.iter().enumerate().filter(|(_, b)| **b) {
+            let (i, k) = (slot % n_r, slot / (n_r * n_t));
+            blocked_volume += polygon_ring(n_t, spec.rotor_r[i], spec.rotor_r[i + 1]) / n_t as f64 * (spec.z_edges[k + 1] - spec.z_edges[k]);
+        }
+        let height = spec.z_edges.last().unwrap() - spec.z_edges[0];
+        let ri = *spec.rotor_r.last().unwrap();
+        let whole = (polygon_ring(n_t, spec.rotor_r[0], ri) + polygon_ring(spec.n_theta_stator, ri, section.tank.radius)) * height;
+        let open: f64 = mesh.cell_volumes.iter().sum();
+        assert!((open + blocked_volume - whole).abs() < 1e-12 * whole, "{open} + {blocked_volume} vs {whole}");
+        // the suction's exact area is what the case's suction velocity was computed from
+        let suction: f64 = mesh.patch("suction").unwrap().faces().map(|f| mesh.face_areas[f].z).sum();
+        assert!((suction - suction_area(&section).unwrap()).abs() < 1e-13, "{suction}");
+    }
+
+    #[test]
+    fn the_blocked_cells_are_the_solids_and_converge_to_their_volume() {
+        // the staircase over-covers thin solids by up to a cell on each side, so its volume
+        // falls toward the true one as the cells shrink
+        let mut previous = f64::INFINITY;
+        for h in [0.06, 0.04, 0.03] {
+            let section = section(h);
+            let mesh = build(&section).unwrap();
+            let spec = blocked_rotor_stator(&section).unwrap();
+            let height = spec.z_edges.last().unwrap() - spec.z_edges[0];
+            let ri = *spec.rotor_r.last().unwrap();
+            let whole = (polygon_ring(spec.n_theta_rotor, spec.rotor_r[0], ri) + polygon_ring(spec.n_theta_stator, ri, section.tank.radius)) * height;
+            let solid = whole - mesh.cell_volumes.iter().sum::<f64>();
+            assert!(solid < previous, "h = {h}: solid volume {solid} m³ did not shrink");
+            previous = solid;
+        }
+    }
+
+    #[test]
+    fn a_point_in_a_blocked_cell_belongs_to_a_nearby_open_cell() {
+        let section = section(0.04);
+        let mesh = build(&section).unwrap();
+        let head = CutterHead::new(&section);
+        let (r, z) = (0.3, -0.2);
+        let theta = head.blade_azimuth(1, r, z);
+        let p = crate::mesh::Vec3::new(r * theta.cos(), r * theta.sin(), z);
+        let cell = mesh.locate(&p).expect("on the blade: the nearest open cell");
+        assert!((mesh.cell_centres[cell] - p).norm() < 3.0 * section.mesh.cell_size);
+    }
+}

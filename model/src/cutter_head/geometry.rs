@@ -1,0 +1,276 @@
+//! The cutter head's shape in its body frame: contour R(z), blade angle φ(z), helical blades,
+//! ring or back plate, hub, suction pipe (spillage-and-flow-verification.md §2.3, §2.8, §2.11).
+//!
+//! One description serves both consumers: the fluid mesh asks which cells a solid touches
+//! ([`CutterHead::touches_solid`]), the DEM gets the same solids as triangle meshes
+//! (`super::walls`), and the spillage bookkeeping asks whether a point is inside the contour
+//! hull ([`CutterHead::inside_hull`]).
+//!
+//! A blade's cross-section at height z is a logarithmic spiral, which makes the same angle
+//! φ(z) with every circle it crosses (the angle of §2.3 at the outer edge, where the analytical
+//! model reads it): θ_k(r, z) = θ_k + τ(z) + ln(R(z)/r) / tan φ(z), with τ(z) the helical
+//! twist, linear from 0 at the ring to `blade_twist` at the hub. The inner part of a blade
+//! leads its outer edge in the direction of rotation (a backward-swept impeller). Its
+//! thickness t is measured normal to the blade, so along a circle it spans t / sin φ.
+
+use std::f64::consts::TAU;
+
+use super::settings::CutterHeadSection;
+
+/// The solid parts, named in errors and outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Blade(usize),
+    Ring,
+    Hub,
+    Pipe,
+}
+
+/// The validated geometry of `[cutter_head]`, SI units and radians.
+#[derive(Clone, Debug)]
+pub struct CutterHead {
+    /// Contour points (s, R, φ), s from the ring toward the hub.
+    contour: Vec<(f64, f64, f64)>,
+    pub blades: usize,
+    pub blade_thickness: f64,
+    pub blade_depth: f64,
+    /// τ at the hub [rad].
+    pub blade_twist: f64,
+    /// The inner radius of the ring (axial suction) or of the mouth in the back plate.
+    pub opening_radius: f64,
+    pub ring_thickness: f64,
+    pub hub_thickness: f64,
+    pub shaft_radius: f64,
+    pub pipe_length: f64,
+    pub pipe_wall: f64,
+    pub capture_height: f64,
+    pub suction_discharge: f64,
+}
+
+fn overlaps(a0: f64, a1: f64, b0: f64, b1: f64) -> bool {
+    a0 < b1 && b0 < a1
+}
+
+impl CutterHead {
+    /// From a validated section.
+    pub fn new(section: &CutterHeadSection) -> CutterHead {
+        CutterHead {
+            contour: section.contour.iter().map(|p| (p[0], p[1], p[2].to_radians())).collect(),
+            blades: section.blades,
+            blade_thickness: section.blade_thickness,
+            blade_depth: section.blade_depth,
+            blade_twist: section.blade_twist.to_radians(),
+            opening_radius: section.opening_radius(),
+            ring_thickness: section.ring_thickness,
+            hub_thickness: section.hub_thickness,
+            shaft_radius: section.shaft_radius,
+            pipe_length: section.pipe_length,
+            pipe_wall: section.pipe_wall,
+            capture_height: section.capture_height,
+            suction_discharge: section.suction_discharge,
+        }
+    }
+
+    /// H, ring to hub [m].
+    pub fn height(&self) -> f64 {
+        self.contour.last().expect("≥ 2 points").0
+    }
+
+    /// The contour points (s, R, φ [rad]).
+    pub fn contour(&self) -> &[(f64, f64, f64)] {
+        &self.contour
+    }
+
+    /// (R, φ) at axial distance s from the ring (clamped to [0, H]), linear between points.
+    fn at(&self, s: f64) -> (f64, f64) {
+        let s = s.clamp(0.0, self.height());
+        let i = self.contour.partition_point(|p| p.0 <= s).clamp(1, self.contour.len() - 1);
+        let (a, b) = (self.contour[i - 1], self.contour[i]);
+        let t = (s - a.0) / (b.0 - a.0);
+        (a.1 + t * (b.1 - a.1), a.2 + t * (b.2 - a.2))
+    }
+
+    /// Contour radius R at height z (z = 0 at the ring, −H at the hub).
+    pub fn radius_at(&self, z: f64) -> f64 {
+        self.at(-z).0
+    }
+
+    /// Blade angle φ at height z [rad].
+    pub fn blade_angle_at(&self, z: f64) -> f64 {
+        self.at(-z).1
+    }
+
+    /// Top of the ring (or back plate) [m].
+    pub fn ring_top(&self) -> f64 {
+        self.ring_thickness
+    }
+
+    /// Top of the domain: the end of the suction pipe [m].
+    pub fn pipe_top(&self) -> f64 {
+        self.ring_thickness + self.pipe_length
+    }
+
+    /// Bottom of the hub plate [m].
+    pub fn hub_bottom(&self) -> f64 {
+        -self.height() - self.hub_thickness
+    }
+
+    /// Innermost radius of the blades at height z.
+    pub fn blade_inner_radius(&self, z: f64) -> f64 {
+        (self.radius_at(z) - self.blade_depth).max(self.shaft_radius)
+    }
+
+    /// Azimuth of blade `k`'s centre surface at radius r and height z (body frame, radians,
+    /// not wrapped).
+    pub fn blade_azimuth(&self, k: usize, r: f64, z: f64) -> f64 {
+        let (radius, phi) = self.at(-z);
+        TAU * k as f64 / self.blades as f64 + self.blade_twist * (-z / self.height()) + (radius / r).ln() / phi.tan()
+    }
+
+    /// Half the angular width of a blade at radius r and height z (thickness t normal to the
+    /// blade spans t / sin φ along the circle).
+    pub fn blade_half_angle(&self, r: f64, z: f64) -> f64 {
+        0.5 * self.blade_thickness / (r * self.blade_angle_at(z).sin())
+    }
+
+    /// The axisymmetric plates: (part, r range, z range).
+    pub fn plates(&self) -> [(Part, [f64; 2], [f64; 2]); 3] {
+        let h = self.height();
+        [
+            (Part::Hub, [self.shaft_radius, self.radius_at(-h)], [self.hub_bottom(), -h]),
+            (Part::Ring, [self.opening_radius, self.radius_at(0.0)], [0.0, self.ring_top()]),
+            (Part::Pipe, [self.opening_radius, self.opening_radius + self.pipe_wall], [self.ring_top(), self.pipe_top()]),
+        ]
+    }
+
+    /// Heights in [z0, z1] where the blade's extent can be extreme: the ends and the contour
+    /// points in between (R and φ are linear between them).
+    fn blade_heights(&self, z0: f64, z1: f64) -> Vec<f64> {
+        let mut zs = vec![z0, z1];
+        zs.extend(self.contour.iter().map(|p| -p.0).filter(|&z| z > z0 && z < z1));
+        zs
+    }
+
+    /// The solid a cylindrical cell r ∈ [r0, r1], θ ∈ [θ0, θ1] (body frame), z ∈ [z0, z1]
+    /// overlaps, if any. Conservative: a solid thinner than a cell still takes the whole cell,
+    /// so blades and plates stay watertight on any mesh (a staircase that converges to the
+    /// true shape as the cells shrink).
+    pub fn touches_solid(&self, r: [f64; 2], theta: [f64; 2], z: [f64; 2]) -> Option<Part> {
+        for (part, pr, pz) in self.plates() {
+            if overlaps(r[0], r[1], pr[0], pr[1]) && overlaps(z[0], z[1], pz[0], pz[1]) {
+                return Some(part);
+            }
+        }
+        let h = self.height();
+        let (z0, z1) = (z[0].max(-h), z[1].min(0.0));
+        if z0 >= z1 {
+            return None;
+        }
+        let heights = self.blade_heights(z0, z1);
+        let reaches = heights.iter().any(|&zz| overlaps(r[0], r[1], self.blade_inner_radius(zz), self.radius_at(zz)));
+        if !reaches {
+            return None;
+        }
+        for k in 0..self.blades {
+            // the azimuths the blade takes over the cell's corners (monotone in r; in z between
+            // the sampled heights)
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for &zz in &heights {
+                let (rin, rout) = (r[0].max(self.blade_inner_radius(zz)), r[1].min(self.radius_at(zz)));
+                if rin > rout {
+                    continue;
+                }
+                for rr in [rin, rout] {
+                    let a = self.blade_azimuth(k, rr, zz);
+                    let w = self.blade_half_angle(rr, zz);
+                    lo = lo.min(a - w);
+                    hi = hi.max(a + w);
+                }
+            }
+            if lo > hi {
+                continue;
+            }
+            // shift the cell's θ interval next to the blade's and test both neighbours of the wrap
+            let shift = TAU * ((lo - theta[0]) / TAU).floor();
+            for s in [shift, shift + TAU] {
+                if overlaps(theta[0] + s, theta[1] + s, lo, hi) {
+                    return Some(Part::Blade(k));
+                }
+            }
+        }
+        None
+    }
+
+    /// Whether a body-frame point is inside the contour hull: between the hub and the ring and
+    /// within R(z) of the axis (the surface Eq. 8.1–8.4 and Eq. 8.6 refer to).
+    pub fn inside_hull(&self, r: f64, z: f64) -> bool {
+        z >= -self.height() && z <= 0.0 && r < self.radius_at(z)
+    }
+
+    /// Whether a point is in the suction pipe, `capture_height` above its entrance.
+    pub fn sucked(&self, r: f64, z: f64) -> bool {
+        r < self.opening_radius && z >= self.ring_top() + self.capture_height
+    }
+
+    /// Whether a sphere of radius `a` centred at body-frame cylindrical (r, θ, z) is clear of
+    /// every solid (used to place particles): the sphere's bounding cylindrical box touches no
+    /// solid.
+    pub fn sphere_is_clear(&self, r: f64, theta: f64, z: f64, a: f64) -> bool {
+        if r - a <= self.shaft_radius {
+            return false;
+        }
+        let half = (a / (r - a)).min(std::f64::consts::PI);
+        self.touches_solid([r - a, r + a], [theta - half, theta + half], [z - a, z + a]).is_none()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn head() -> CutterHead {
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../cases/cutter_head.toml")).unwrap();
+        let case = crate::case::Case::from_toml(&text, std::path::Path::new("cutter_head.toml")).unwrap();
+        CutterHead::new(case.cutter_head.as_ref().unwrap())
+    }
+
+    #[test]
+    fn the_blade_makes_the_angle_phi_with_every_circle_it_crosses() {
+        let head = head();
+        for &(z, k) in &[(-0.1, 0), (-0.3, 3), (-0.4, 5)] {
+            let phi = head.blade_angle_at(z);
+            let r = head.radius_at(z) - 0.5 * head.blade_depth;
+            let dr = 1e-5;
+            // tan of the angle between the curve and the circle: dr / (r dθ), by a central
+            // difference (truncation (dr/r)² ~ 1e-8)
+            let dtheta = head.blade_azimuth(k, r + dr, z) - head.blade_azimuth(k, r - dr, z);
+            let angle = (2.0 * dr / (r * dtheta.abs())).atan();
+            assert!((angle - phi).abs() < 1e-7, "z = {z}: {angle} vs {phi}");
+        }
+    }
+
+    #[test]
+    fn a_cell_on_the_blade_touches_it_and_one_between_blades_does_not() {
+        let head = head();
+        let (z, r) = (-0.2, 0.3);
+        let a = head.blade_azimuth(2, r, z);
+        let cell = |t: f64| head.touches_solid([r - 0.005, r + 0.005], [t - 0.01, t + 0.01], [z - 0.005, z + 0.005]);
+        assert_eq!(cell(a), Some(Part::Blade(2)));
+        assert_eq!(cell(a + TAU), Some(Part::Blade(2)), "the azimuth wraps");
+        assert_eq!(cell(a + 0.5 * TAU / head.blades as f64), None);
+        // outside the contour and below the hub plate nothing is solid
+        assert_eq!(head.touches_solid([0.5, 0.51], [0.0, 0.1], [-0.2, -0.19]), None);
+        assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() - 0.1, head.hub_bottom() - 0.05]), None);
+        assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() + 0.001, head.hub_bottom() + 0.002]), Some(Part::Hub));
+    }
+
+    #[test]
+    fn the_hull_follows_the_contour() {
+        let head = head();
+        let h = head.height();
+        assert!(head.inside_hull(0.9 * head.radius_at(-0.1), -0.1));
+        assert!(!head.inside_hull(1.01 * head.radius_at(-0.1), -0.1));
+        assert!(!head.inside_hull(0.1, 0.01), "above the ring");
+        assert!(!head.inside_hull(0.1, -h - 0.01), "below the hub");
+    }
+}
