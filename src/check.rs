@@ -160,7 +160,10 @@ fn particle_lines(case: &Case) -> Vec<String> {
     let Some(p) = &case.particles else { return Vec::new() };
     let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
     diameters.extend(p.groups.iter().map(|g| match g {
-        GroupSection::List { diameter, .. } | GroupSection::Lattice { diameter, .. } | GroupSection::Random { diameter, .. } => {
+        GroupSection::List { diameter, .. }
+        | GroupSection::Lattice { diameter, .. }
+        | GroupSection::HeadLattice { diameter, .. }
+        | GroupSection::Random { diameter, .. } => {
             (diameter.smallest(), diameter.largest())
         }
     }));

@@ -18,6 +18,10 @@ pub enum ExitRoute {
     /// Its centre left the fluid mesh through the named boundary patch (the patch of the
     /// boundary face nearest to its last position).
     Patch(String),
+    /// Its centre rose into a cutter head's suction pipe (`capture_height` above the mouth).
+    Sucked,
+    /// Its centre left a cutter head's contour hull (spillage, Eq. 8.6).
+    Spilled,
 }
 
 /// One particle that left, with when and where.

@@ -19,7 +19,14 @@ pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
         ..Default::default()
     };
     for (g, group) in section.groups.iter().enumerate() {
-        add_group(section, group, &format!("particles.groups.{g}"), &mut state)?;
+        let key = format!("particles.groups.{g}");
+        if let GroupSection::HeadLattice { .. } = group {
+            let head = case.cutter_head.as_ref().ok_or_else(|| FieldError::new(format!("{key}.placement"), "\"head_lattice\"", "a case with a [cutter_head]"))?;
+            let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity());
+            add_head_lattice(section, group, &key, &crate::cutter_head::CutterHead::new(head), omega, &mut state)?;
+        } else {
+            add_group(section, group, &key, &mut state)?;
+        }
     }
     state.counts = ParticleCounts { created: state.particles.len() as u64 };
     Ok(state)
@@ -70,6 +77,41 @@ pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Part
     None
 }
 
+/// The sites of a `head_lattice` group that lie inside the hull, in the sector and clear of the
+/// head's solids, in z, y, x order.
+fn add_head_lattice(section: &ParticlesSection, group: &GroupSection, key: &str, head: &crate::cutter_head::CutterHead, omega: f64, state: &mut ParticleState) -> Result<(), FieldError> {
+    let GroupSection::HeadLattice { material, diameter, spacing, sector, z, co_rotating, seed } = group else { unreachable!("called for head lattices") };
+    let material = section.material_index(material).ok_or_else(|| FieldError::new(format!("{key}.material"), material, "a known material"))?;
+    let mut random = SplitMix64::new(*seed);
+    let a = 0.5 * diameter.largest();
+    let reach = head.contour().iter().map(|p| p.1).fold(0.0, f64::max);
+    let n_xy = (reach / spacing).ceil() as i64;
+    let (k0, k1) = ((z[0] / spacing).ceil() as i64, (z[1] / spacing).floor() as i64);
+    let from = sector[0].to_radians();
+    let width = (sector[1] - sector[0]).to_radians();
+    let before = state.particles.len();
+    for k in k0..=k1 {
+        for iy in -n_xy..=n_xy {
+            for ix in -n_xy..=n_xy {
+                let p = Vec3::new(ix as f64 * spacing, iy as f64 * spacing, k as f64 * spacing);
+                let (r, theta) = (p.x.hypot(p.y), p.y.atan2(p.x));
+                let in_sector = (theta - from).rem_euclid(std::f64::consts::TAU) <= width;
+                let inside = head.inside_hull(r + a, p.z) && head.inside_hull(r, p.z - a) && p.z + a <= 0.0;
+                if in_sector && inside && head.sphere_is_clear(r, theta, p.z, a) {
+                    let d = draw_diameter(diameter, &mut random);
+                    let v = if *co_rotating { Vec3::new(-omega * p.y, omega * p.x, 0.0) } else { Vec3::zeros() };
+                    let particle = new_particle(section, state, material, d, p, v);
+                    state.particles.push(particle);
+                }
+            }
+        }
+    }
+    if state.particles.len() == before {
+        return Err(FieldError::new(format!("{key}.sector"), format!("{sector:?} with z = {z:?}"), "a region of the head with room for at least one particle"));
+    }
+    Ok(())
+}
+
 fn add_group(section: &ParticlesSection, group: &GroupSection, key: &str, state: &mut ParticleState) -> Result<(), FieldError> {
     let material = section.material_index(group.material()).ok_or_else(|| FieldError::new(format!("{key}.material"), group.material(), "a known material"))?;
     match group {
@@ -103,6 +145,7 @@ fn add_group(section: &ParticlesSection, group: &GroupSection, key: &str, state:
                 }
             }
         }
+        GroupSection::HeadLattice { .. } => unreachable!("placed by add_head_lattice"),
         GroupSection::Random { diameter, region, count, velocity, seed, .. } => {
             let mut random = SplitMix64::new(*seed);
             for placed in 0..*count {

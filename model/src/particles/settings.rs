@@ -223,6 +223,23 @@ pub enum GroupSection {
         #[serde(default)]
         seed: u64,
     },
+    /// A cubic lattice of the given spacing (sites at multiples of `spacing` from the axis and
+    /// the ring) inside a cutter head's contour hull, between `z[0]` and `z[1]` and within the
+    /// azimuths `sector` (degrees, lab frame at t = 0), keeping every sphere clear of the
+    /// head's solids: the thesis' initial batch between the blades on the cutting side
+    /// (spillage-and-flow-verification.md §5.4, Eq. 8.5). `co_rotating` starts the particles
+    /// with the rotor's solid-body velocity ω × r.
+    HeadLattice {
+        material: String,
+        diameter: Diameter,
+        spacing: f64,
+        sector: [f64; 2],
+        z: [f64; 2],
+        #[serde(default = "yes")]
+        co_rotating: bool,
+        #[serde(default)]
+        seed: u64,
+    },
     /// `count` particles at random non-overlapping positions inside a box.
     Random {
         material: String,
@@ -239,7 +256,10 @@ pub enum GroupSection {
 impl GroupSection {
     pub fn material(&self) -> &str {
         match self {
-            GroupSection::List { material, .. } | GroupSection::Lattice { material, .. } | GroupSection::Random { material, .. } => material,
+            GroupSection::List { material, .. }
+            | GroupSection::Lattice { material, .. }
+            | GroupSection::HeadLattice { material, .. }
+            | GroupSection::Random { material, .. } => material,
         }
     }
     fn validate(&self, key: &str, names: &[&str]) -> Result<(), FieldError> {
@@ -276,6 +296,24 @@ impl GroupSection {
                     ));
                 }
                 finite_vector(&format!("{key}.velocity"), *velocity)
+            }
+            GroupSection::HeadLattice { diameter, spacing, sector, z, .. } => {
+                diameter.validate(&format!("{key}.diameter"))?;
+                positive(&format!("{key}.spacing"), *spacing, "m")?;
+                if *spacing < diameter.largest() {
+                    return Err(FieldError::new(
+                        format!("{key}.spacing"),
+                        spacing,
+                        format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest()),
+                    ));
+                }
+                if !(sector.iter().all(|a| a.is_finite()) && sector[1] > sector[0] && sector[1] - sector[0] <= 360.0) {
+                    return Err(FieldError::new(format!("{key}.sector"), format!("{sector:?}"), "[from, to] in degrees with from < to ≤ from + 360"));
+                }
+                if !(z.iter().all(|a| a.is_finite()) && z[1] > z[0]) {
+                    return Err(FieldError::new(format!("{key}.z"), format!("{z:?}"), "[bottom, top] in m with bottom < top"));
+                }
+                Ok(())
             }
             GroupSection::Random { diameter, region, count, velocity, .. } => {
                 diameter.validate(&format!("{key}.diameter"))?;

@@ -31,6 +31,8 @@ use super::time_step::TimeStepControl;
 use crate::case::Case;
 use crate::closure::drag::FluidAtParticle;
 use crate::coupling::{CellLoad, ParticleMeshMap};
+use crate::cutter_head::spillage::{self, HullFaces, SpillageCounts};
+use crate::cutter_head::CutterHead;
 use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
@@ -59,6 +61,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     cell_load: Option<CellLoad>,
     /// Unit vector along gravity (settling velocities), if there is gravity.
     down: Option<Vec3>,
+    /// A cutter head's geometry and hull faces (spillage bookkeeping, hull fluxes).
+    head: Option<(CutterHead, HullFaces)>,
     label: &'static str,
 }
 
@@ -138,6 +142,14 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         }
         let g = Vec3::from(case.physics.gravity);
         let down = (g.norm() > 0.0).then(|| g.normalize());
+        let head = match (&case.cutter_head, &fluid) {
+            (Some(section), Some(f)) => {
+                let head = CutterHead::new(section);
+                let faces = HullFaces::new(&head, f.mesh());
+                Some((head, faces))
+            }
+            _ => None,
+        };
         Ok(Coupled {
             fluid,
             particles,
@@ -152,6 +164,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             particle_load: None,
             cell_load: None,
             down,
+            head,
             label,
         })
     }
@@ -246,9 +259,15 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
             let domain = section.domain.clone();
+            let head = self.head.as_ref().map(|(h, _)| h);
             let (mut index, mut gone) = (0, Vec::new());
             bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| {
-                let route = exit_route(domain.as_ref(), mesh, &p.position);
+                let route = match head {
+                    // a head's particles leave by its rules (its solids' staircase cells are
+                    // no exit)
+                    Some(head) => exit_route(domain.as_ref(), None, &p.position).or_else(|| spillage::exit_route(head, &p.position)),
+                    None => exit_route(domain.as_ref(), mesh, &p.position),
+                };
                 if route.is_some() {
                     gone.push(index);
                 }
@@ -265,6 +284,26 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             report.values.push(("particles", particles.particles.len() as f64));
             report.values.push(("escaped", particles.escaped() as f64));
+            if self.head.is_some() {
+                let counts = SpillageCounts::from_exits(&particles.exits);
+                let created = particles.counts.created;
+                if created != particles.particles.len() as u64 + counts.sucked + counts.spilled + counts.other {
+                    return Err(diverged(format!(
+                        "particle counts not conserved: {created} created, {} inside, {} sucked, {} spilled, {} left otherwise",
+                        particles.particles.len(),
+                        counts.sucked,
+                        counts.spilled,
+                        counts.other
+                    )));
+                }
+                let fraction = |n: u64| if created > 0 { n as f64 / created as f64 } else { 0.0 };
+                report.values.extend([
+                    ("sucked", counts.sucked as f64),
+                    ("spilled", counts.spilled as f64),
+                    ("production", fraction(counts.sucked)),
+                    ("spillage", fraction(counts.spilled)),
+                ]);
+            }
             report.values.push(("impacts", particles.impacts.len() as f64));
             if let Some(down) = self.down.filter(|_| !particles.particles.is_empty()) {
                 report.values.push(("settling_velocity", median(particles.particles.iter().map(|p| p.velocity.dot(&down)).collect())));
@@ -295,6 +334,16 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 return Err(diverged(format!("Courant number {}", outcome.courant_max)));
             }
             self.state.courant = outcome.courant_max;
+            if let Some((head, faces)) = &self.head {
+                let q = faces.flux(&fluid.flux);
+                report.values.extend([
+                    ("hull_outflow", q.outflow),
+                    ("hull_net_flux", q.net),
+                    ("suction_flux", q.suction),
+                    ("outflow_ratio", q.outflow / head.suction_discharge),
+                    ("hull_outflow_top", q.outflow_top_bin),
+                ]);
+            }
         }
 
         // 8. the clock
