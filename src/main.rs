@@ -3,6 +3,7 @@
 mod analytic_cmd;
 mod check;
 mod frames;
+mod head_report;
 mod progress;
 mod run;
 mod verify_cmd;

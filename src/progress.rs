@@ -23,6 +23,8 @@ pub struct Progress {
     last_line: Instant,
     /// The tenth of the run last reported on a plain line.
     last_tenth: u64,
+    /// A cutter-head case (its progress shows revolutions and spillage).
+    head: bool,
 }
 
 /// Fraction of the run done (steps or simulated time), in [0, 1].
@@ -60,15 +62,27 @@ impl Progress {
             bar
         });
         let now = Instant::now();
-        Self { bar, total_steps, start: now, last_line: now, last_tenth: (fraction(case, state) * 10.0 + 1e-9) as u64 }
+        Self { bar, total_steps, start: now, last_line: now, last_tenth: (fraction(case, state) * 10.0 + 1e-9) as u64, head: case.cutter_head.is_some() }
     }
 
-    /// What the run is at: simulated time, step (of the total) and the report's first values.
+    /// What the run is at: simulated time, step (of the total) and the report's first values;
+    /// for a cutter head the revolutions done and the live spillage, production and
+    /// out-flowing flux instead.
     fn message(&self, state: &State, report: &StepReport) -> String {
         let mut msg = match self.total_steps {
             Some(n) => format!("t = {:.4e} s, step {}/{n}", state.time, state.step),
             None => format!("t = {:.4e} s, step {}", state.time, state.step),
         };
+        if self.head {
+            msg.push_str(&format!(", revolution {:.2}", state.rotor_angle.abs() / std::f64::consts::TAU));
+            let value = |name: &str| report.values.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
+            for (name, label, percent) in [("spillage", "spilled", true), ("production", "sucked", true), ("outflow_ratio", "Q_out/Q_m", false)] {
+                if let Some(v) = value(name) {
+                    msg.push_str(&if percent { format!(", {label} {:.1} %", 100.0 * v) } else { format!(", {label} {v:.3}") });
+                }
+            }
+            return msg;
+        }
         for (name, value) in report.values.iter().take(3) {
             msg.push_str(&format!(", {name} {}", number(*value)));
         }

@@ -135,9 +135,15 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if case.output.plots {
         draw_plots(&out)?;
     }
+    for line in crate::head_report::report(&case, state, &out)? {
+        eprintln!("{line}");
+    }
     match result {
         Ok(()) => {
             eprintln!("{}: {} steps to t = {:.6e} s in {wall:.1} s; results in {}", case.case.name, run.steps, state.time, out.display());
+            if case.output.paraview {
+                eprintln!("ParaView: open {} (and particles.pvd, walls.pvd); plots in {}", out.join("fluid.pvd").display(), out.join("plots").display());
+            }
             Ok(ExitCode::SUCCESS)
         }
         Err(e) => Err(anyhow::anyhow!("{e} (after {wall:.1} s; results up to the failure are in {})", out.display())),

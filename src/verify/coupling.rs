@@ -101,7 +101,7 @@ struct Trace {
 
 /// Runs `case` with the fast fluid and the reference DEM to its end time.
 fn run(case: &Case) -> Result<Trace> {
-    let mesh = spillage_model::mesh::build(case.mesh.as_ref().ok_or_else(|| anyhow!("the case has no [mesh]"))?)?;
+    let mesh = super::fluid::build_mesh(case)?;
     let mut state = State::default();
     let fluid = FastFluid::new(case, mesh, &mut state)?;
     let dem = ReferenceDem::new(case, &mut state)?;

@@ -35,10 +35,10 @@ pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> 
 // ---------------------------------------------------------------------------------------------
 // mesh and run helpers
 
-/// Builds the mesh of `case.mesh`, with the z faces of a 2-D mesh marked empty.
+/// Builds the mesh of `case.mesh` (the z faces of a 2-D mesh marked empty) or of its
+/// `[cutter_head]`.
 pub fn build_mesh(case: &Case) -> Result<Mesh> {
-    let section = case.mesh.as_ref().ok_or_else(|| anyhow!("the case has no [mesh]"))?;
-    Ok(spillage_model::mesh::build(section)?)
+    Ok(spillage_model::mesh::for_case(case).ok_or_else(|| anyhow!("the case has no [mesh] or [cutter_head]"))??)
 }
 
 /// What a run reports besides its final state.
@@ -557,7 +557,7 @@ fn taylor_green(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             bail!("needs a box mesh");
         }
         let mesh = build_mesh(&c)?;
-        let u0: Vec<Vec3> = mesh.cell_centres.iter().map(|x| Vec3::from(fluid.initial.velocity_at([x.x, x.y, x.z]))).collect();
+        let u0: Vec<Vec3> = mesh.cell_centres.iter().map(|x| Vec3::from(fluid.initial.velocity_at([x.x, x.y, x.z], None))).collect();
         let ke0: f64 = u0.iter().zip(&mesh.cell_volumes).map(|(u, v)| 0.5 * u.norm_squared() * v).sum();
         let (solver, summary) = run(&c)?;
         let t = solver.state().time;

@@ -90,14 +90,16 @@ impl Case {
         Ok(case)
     }
 
-    /// A cutter head's pipe end gets the uniform axial velocity that carries
-    /// `cutter_head.suction_discharge` out through the exact area of its faces.
+    /// A cutter head's tank floor gets the uniform upward velocity that carries
+    /// `cutter_head.suction_discharge` in through the exact area of its faces, and the pipe's
+    /// end a fixed-pressure outlet ([`crate::cutter_head::fluid_mesh::FLOW_PATCHES`]).
     fn add_suction_condition(&mut self) -> Result<(), FieldError> {
         let Some(head) = &self.cutter_head else { return Ok(()) };
-        let area = crate::cutter_head::fluid_mesh::suction_area(head)
+        let area = crate::cutter_head::fluid_mesh::floor_area(head)
             .map_err(|e| FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"))?;
         let velocity = head.suction_discharge / area;
-        self.boundary.insert("suction".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity] });
+        self.boundary.insert("floor".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity] });
+        self.boundary.insert("suction".into(), BoundaryCondition::PressureOutlet { pressure: 0.0 });
         Ok(())
     }
 
@@ -154,6 +156,11 @@ impl Case {
                 _ => {}
             }
         }
+        if let Some(fluid) = &self.fluid {
+            if matches!(fluid.initial, crate::fluid::settings::InitialVelocity::SolidBody { .. }) && self.rotor.as_ref().is_none_or(|r| r.axis[0] != 0.0 || r.axis[1] != 0.0) {
+                return Err(FieldError::new("fluid.initial.type", "\"solid_body\"", "a solid-body start only with a [rotor] turning about z"));
+            }
+        }
         let has_mesh = self.mesh.is_some() || self.cutter_head.is_some();
         if self.fluid.is_some() != has_mesh {
             let missing = if self.fluid.is_some() { "mesh" } else { "fluid" };
@@ -165,14 +172,15 @@ impl Case {
         let patches = match (&self.mesh, &self.cutter_head) {
             (Some(mesh), _) => Some(mesh.boundary_patches()),
             (None, Some(_)) => {
-                if self.boundary.contains_key("suction") {
+                use crate::cutter_head::fluid_mesh::{FLOW_PATCHES, PATCHES};
+                if let Some(p) = FLOW_PATCHES.iter().find(|p| self.boundary.contains_key(**p)) {
                     return Err(FieldError::new(
-                        "boundary.suction",
-                        "(a [boundary.suction] section)",
-                        "none: the suction's velocity follows from cutter_head.suction_discharge",
+                        format!("boundary.{p}"),
+                        format!("(a [boundary.{p}] section)"),
+                        "none: the floor's inflow and the pipe's outflow follow from cutter_head.suction_discharge",
                     ));
                 }
-                Some(crate::cutter_head::fluid_mesh::PATCHES.iter().filter(|p| **p != "suction").map(|p| p.to_string()).collect::<Vec<_>>())
+                Some(PATCHES.iter().filter(|p| !FLOW_PATCHES.contains(p)).map(|p| p.to_string()).collect::<Vec<_>>())
             }
             (None, None) => None,
         };

@@ -14,10 +14,18 @@ use super::settings::CutterHeadSection;
 use crate::mesh::cartesian::graded_edges;
 use crate::mesh::{BlockedRotorStator, Mesh, MeshError, BLOCKED_ROTOR_STATOR_PATCHES};
 
-/// The patches that need a `[boundary.*]` condition: `shaft` (the rotating shaft), `tank`
-/// (the tank wall), `floor`, `top` (the water surface around the pipe), `head` (every face of
-/// the head's solids), `suction` (the end of the pipe).
+/// The patches of the head's mesh: `shaft` (the rotating shaft), `tank` (the tank wall),
+/// `floor`, `top` (the water surface around the pipe), `head` (every face of the head's
+/// solids), `suction` (the end of the pipe). The case gives conditions for all but `floor` and
+/// `suction`, which [`crate::case::Case`] sets from `suction_discharge` (see [`FLOW_PATCHES`]).
 pub const PATCHES: [&str; 6] = ["shaft", "tank", "floor", "top", "head", "suction"];
+
+/// The patches whose conditions carry the suction discharge: the water enters uniformly
+/// through the tank floor (Q_m / floor area, upward) and leaves through the pipe's end at
+/// fixed pressure with zero-gradient velocity. (The thesis fed the tank through its side,
+/// §4.2; a fixed velocity at the pipe's end, which turns with the rotor, blocks the swirl
+/// leaving the pipe and grew a 35 m/s azimuthal jet in the top cells in our tests.)
+pub const FLOW_PATCHES: [&str; 2] = ["floor", "suction"];
 
 fn cells_over(length: f64, size: f64) -> usize {
     ((length / size).round() as usize).max(1)
@@ -56,29 +64,34 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
             }
         }
     }
-    Ok(BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, suction_radius: head.opening_radius })
+    let mut spec = BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, suction_radius: head.opening_radius };
+    spec.close_pockets();
+    let top = n_r * n_theta_rotor * (spec.z_edges.len() - 2);
+    let pipe_open = (0..n_r).any(|i| !spec.blocked[top + i] && 0.5 * (spec.rotor_r[i] + spec.rotor_r[i + 1]) < head.opening_radius);
+    if !pipe_open {
+        return Err(MeshError::input(
+            "cutter_head.mesh.cell_size",
+            h,
+            &format!(
+                "cells small enough that the pipe keeps open cells between the shaft ({} m) and its wall ({} m): the staircase of the wall fills it",
+                head.shaft_radius, head.opening_radius
+            ),
+        ));
+    }
+    Ok(spec)
 }
 
-/// Area of the `suction` patch: the open top-layer rotor faces whose centre lies inside the
-/// pipe, each a planar quad of area ½ sin(2π/n_θ)(r_o² − r_i²).
-pub fn suction_area(section: &CutterHeadSection) -> Result<f64, MeshError> {
+/// Area of the `floor` patch: every bottom-layer cell's face, planar annular sectors of area
+/// ½ sin(2π/n_θ)(r_o² − r_i²) in both zones.
+pub fn floor_area(section: &CutterHeadSection) -> Result<f64, MeshError> {
     let spec = blocked_rotor_stator(section)?;
-    let (n_r, n_t) = (spec.rotor_r.len() - 1, spec.n_theta_rotor);
-    let top = spec.z_edges.len() - 2;
-    let dtheta = TAU / n_t as f64;
-    let mut area = 0.0;
-    for j in 0..n_t {
-        for i in 0..n_r {
-            let (r0, r1) = (spec.rotor_r[i], spec.rotor_r[i + 1]);
-            if !spec.blocked[i + n_r * (j + n_t * top)] && 0.5 * (r0 + r1) * (0.5 * dtheta).cos() < spec.suction_radius {
-                area += 0.5 * dtheta.sin() * (r1 * r1 - r0 * r0);
-            }
-        }
+    let n_r = spec.rotor_r.len() - 1;
+    if spec.blocked[..n_r * spec.n_theta_rotor].iter().any(|&b| b) {
+        return Err(MeshError::input("cutter_head.tank.below_hub", section.tank.below_hub, "water under the hub plate (a solid touches the floor)"));
     }
-    if area <= 0.0 {
-        return Err(MeshError::input("cutter_head.mesh.cell_size", section.mesh.cell_size, "cells small enough that the pipe has open cells at its end"));
-    }
-    Ok(area)
+    let ring = |n: usize, r0: f64, r1: f64| 0.5 * n as f64 * (TAU / n as f64).sin() * (r1 * r1 - r0 * r0);
+    let ri = *spec.rotor_r.last().expect("≥ 2 edges");
+    Ok(ring(spec.n_theta_rotor, spec.rotor_r[0], ri) + ring(spec.n_theta_stator, ri, section.tank.radius))
 }
 
 /// The cutter head's fluid mesh, with the patch names of [`PATCHES`].
@@ -127,9 +140,10 @@ mod tests {
         let whole = (polygon_ring(n_t, spec.rotor_r[0], ri) + polygon_ring(spec.n_theta_stator, ri, section.tank.radius)) * height;
         let open: f64 = mesh.cell_volumes.iter().sum();
         assert!((open + blocked_volume - whole).abs() < 1e-12 * whole, "{open} + {blocked_volume} vs {whole}");
-        // the suction's exact area is what the case's suction velocity was computed from
-        let suction: f64 = mesh.patch("suction").unwrap().faces().map(|f| mesh.face_areas[f].z).sum();
-        assert!((suction - suction_area(&section).unwrap()).abs() < 1e-13, "{suction}");
+        // the floor's exact area is what the case's inflow velocity was computed from
+        let floor: f64 = mesh.patch("floor").unwrap().faces().map(|f| -mesh.face_areas[f].z).sum();
+        assert!((floor - floor_area(&section).unwrap()).abs() < 1e-13, "{floor}");
+        assert!(mesh.patch("suction").unwrap().len > 0);
     }
 
     #[test]

@@ -13,9 +13,10 @@ pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
     let n_cells = mesh.n_cells();
     let mut state = FluidState::at_rest(n_cells, mesh.n_faces(), mesh.n_internal_faces);
     if let Some(fluid) = &case.fluid {
+        let rotor = case.rotor.as_ref().map(|r| (r.angular_velocity() * r.axis[2].signum(), r.origin));
         for c in 0..n_cells {
             let x = mesh.cell_centres[c];
-            state.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z]);
+            state.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z], rotor);
         }
     }
     state.velocity_old = state.velocity.clone();

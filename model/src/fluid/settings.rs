@@ -42,6 +42,10 @@ pub enum InitialVelocity {
         /// Length scale L [m] (the box side is 2πL).
         length: f64,
     },
+    /// Solid-body rotation with the `[rotor]`, u = ω × (x − origin), inside the cylinder
+    /// r < `radius`, `z[0]` < z < `z[1]` about the rotor axis z; at rest outside: a start-up
+    /// closer to the turning head's flow than rest (spillage-and-flow-verification.md §4.2).
+    SolidBody { radius: f64, z: [f64; 2] },
 }
 
 impl InitialVelocity {
@@ -55,12 +59,28 @@ impl InitialVelocity {
                 }
                 positive(&format!("{key}.length"), *length, "m")
             }
+            InitialVelocity::SolidBody { radius, z } => {
+                positive(&format!("{key}.radius"), *radius, "m")?;
+                if !(z.iter().all(|v| v.is_finite()) && z[1] > z[0]) {
+                    return Err(FieldError::new(format!("{key}.z"), format!("{z:?}"), "[bottom, top] in m with bottom < top"));
+                }
+                Ok(())
+            }
         }
     }
 
-    /// Velocity at a point.
-    pub fn velocity_at(&self, x: [f64; 3]) -> [f64; 3] {
+    /// Velocity at a point; `rotor` is the rotor's (ω about z, origin) for `SolidBody`.
+    pub fn velocity_at(&self, x: [f64; 3], rotor: Option<(f64, [f64; 3])>) -> [f64; 3] {
         match self {
+            InitialVelocity::SolidBody { radius, z } => {
+                let (omega, o) = rotor.unwrap_or((0.0, [0.0; 3]));
+                let (dx, dy) = (x[0] - o[0], x[1] - o[1]);
+                if dx.hypot(dy) < *radius && x[2] > z[0] && x[2] < z[1] {
+                    [-omega * dy, omega * dx, 0.0]
+                } else {
+                    [0.0; 3]
+                }
+            }
             InitialVelocity::Rest => [0.0; 3],
             InitialVelocity::Uniform { velocity } => *velocity,
             InitialVelocity::TaylorGreen { speed, length } => {

@@ -60,6 +60,39 @@ impl BlockedRotorStator {
     }
 }
 
+impl BlockedRotorStator {
+    /// Blocks the open slots the solids cut off from the sliding interface (water enclosed by
+    /// a staircase, e.g. between a coarse ring and pipe): such a pocket would be a separate
+    /// fluid whose pressure no boundary fixes. Returns how many slots it blocked.
+    pub fn close_pockets(&mut self) -> usize {
+        let n_r = self.n_r();
+        let n_slots = self.blocked.len();
+        let mut reached = vec![false; n_slots];
+        let mut queue: VecDeque<usize> = (0..n_slots).filter(|&s| !self.blocked[s] && self.ijk(s).0 == n_r - 1).collect();
+        for &s in &queue {
+            reached[s] = true;
+        }
+        while let Some(s) = queue.pop_front() {
+            for local in 0..6 {
+                if let Some(t) = self.neighbour(s, local) {
+                    if !self.blocked[t] && !reached[t] {
+                        reached[t] = true;
+                        queue.push_back(t);
+                    }
+                }
+            }
+        }
+        let mut closed = 0;
+        for s in 0..n_slots {
+            if !self.blocked[s] && !reached[s] {
+                self.blocked[s] = true;
+                closed += 1;
+            }
+        }
+        closed
+    }
+}
+
 impl Mesh {
     /// Generate the rotor/stator mesh of `spec` without its blocked rotor slots.
     pub fn rotor_stator_blocked(spec: &BlockedRotorStator) -> Result<Mesh, MeshError> {

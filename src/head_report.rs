@@ -1,0 +1,87 @@
+//! What `spillage run` tells a user at the end of a cutter-head run: production and spillage
+//! fractions (Eq. 8.6), the out-flowing flux over Q_m averaged over the last revolution (the
+//! thesis averaged the last one, §5.1), where the spilled particles left (Fig. 8.8), and the
+//! plots that show it: `plots/spillage_heights.png`, `plots/fractions.png`,
+//! `plots/hull_flux.png`. The histogram is also written as `spillage_heights.csv`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use spillage_model::case::Case;
+use spillage_model::cutter_head::spillage::{exit_height_histogram, SpillageCounts, EXIT_BIN};
+use spillage_model::cutter_head::CutterHead;
+use spillage_model::output::plot::{write_png, Plot, Series};
+use spillage_model::output::series::read_series;
+use spillage_model::state::State;
+
+/// Writes the head's files and plots and returns the lines to print; empty without a head.
+pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<String>> {
+    let Some(section) = &case.cutter_head else { return Ok(Vec::new()) };
+    let head = CutterHead::new(section);
+    let mut lines = Vec::new();
+    let plots = out.join("plots");
+    std::fs::create_dir_all(&plots)?;
+    let series_path = out.join("series.csv");
+    let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity()).abs();
+    if series_path.exists() {
+        let table = read_series(&series_path)?;
+        if let (Some(time), Some(outflow)) = (table.column("time"), table.column("hull_outflow")) {
+            let end = time.last().copied().unwrap_or(0.0);
+            let period = if omega > 0.0 { std::f64::consts::TAU / omega } else { f64::INFINITY };
+            let from = (end - period).max(0.0);
+            let window: Vec<f64> = time.iter().zip(&outflow).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
+            let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
+            let revolutions = end / period;
+            let window_text = if revolutions >= 1.0 { "the last revolution".to_string() } else { format!("the {revolutions:.2} revolutions run") };
+            lines.push(format!(
+                "out-flowing flux  {mean:.4} m³/s = {:.3} Q_m (Eq. 8.4, mean over {window_text}; Q_m = {} m³/s)",
+                mean / head.suction_discharge,
+                head.suction_discharge
+            ));
+            let q_m: Vec<(f64, f64)> = time.iter().map(|t| (*t, head.suction_discharge)).collect();
+            let q_out: Vec<(f64, f64)> = time.iter().copied().zip(outflow.iter().copied()).collect();
+            let mut series = vec![Series { label: "out-flowing flux Q_out (Eq. 8.4)", points: &q_out }, Series { label: "suction discharge Q_m", points: &q_m }];
+            let net: Vec<(f64, f64)>;
+            if let Some(n) = table.column("hull_net_flux") {
+                net = time.iter().copied().zip(n.iter().map(|q| -q)).collect();
+                series.push(Series { label: "net inflow through the hull", points: &net });
+            }
+            let title = format!("{}: flux through the contour hull", case.case.name);
+            write_png(&Plot { title: &title, x_label: "time [s]", y_label: "flux [m³/s]", log_x: false, log_y: false, series }, &plots.join("hull_flux.png"))?;
+        }
+        if let (Some(time), Some(production), Some(spillage)) = (table.column("time"), table.column("production"), table.column("spillage")) {
+            let p: Vec<(f64, f64)> = time.iter().copied().zip(production).collect();
+            let s: Vec<(f64, f64)> = time.iter().copied().zip(spillage).collect();
+            let title = format!("{}: production and spillage (Eq. 8.6)", case.case.name);
+            let series = vec![Series { label: "production P = sucked / created", points: &p }, Series { label: "spillage S = spilled / created", points: &s }];
+            write_png(&Plot { title: &title, x_label: "time [s]", y_label: "fraction of the particles [-]", log_x: false, log_y: false, series }, &plots.join("fractions.png"))?;
+        }
+    }
+    if let Some(particles) = &state.particles {
+        let counts = SpillageCounts::from_exits(&particles.exits);
+        let created = particles.counts.created.max(1) as f64;
+        lines.push(format!(
+            "production        {:.1} % ({} of {} particles sucked)",
+            100.0 * counts.sucked as f64 / created,
+            counts.sucked,
+            particles.counts.created
+        ));
+        lines.push(format!("spillage          {:.1} % ({} spilled, {} still in the head)", 100.0 * counts.spilled as f64 / created, counts.spilled, particles.particles.len()));
+        let bins = exit_height_histogram(&head, &particles.exits);
+        let mut csv = String::from("bin_top_z_m,bin_bottom_z_m,spilled\n");
+        for (top, n) in &bins {
+            writeln!(csv, "{top},{},{n}", top - EXIT_BIN)?;
+        }
+        std::fs::write(out.join("spillage_heights.csv"), csv)?;
+        if counts.spilled > 0 {
+            let top_share = bins[0].1 as f64 / counts.spilled as f64;
+            lines.push(format!("where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv)", 100.0 * top_share, 100.0 * EXIT_BIN));
+            // a bar outline: count against the bin's depth under the ring
+            let outline: Vec<(f64, f64)> = bins.iter().flat_map(|(top, n)| [(*n as f64, -top * 100.0), (*n as f64, (EXIT_BIN - top) * 100.0)]).collect();
+            let title = format!("{}: where the spilled particles left (Fig. 8.8)", case.case.name);
+            let series = vec![Series { label: "spilled particles per 3 cm bin", points: &outline }];
+            write_png(&Plot { title: &title, x_label: "spilled particles [-]", y_label: "depth under the ring [cm]", log_x: false, log_y: false, series }, &plots.join("spillage_heights.png"))?;
+        }
+    }
+    Ok(lines)
+}
