@@ -1,0 +1,386 @@
+//! The cutter head's solids as closed triangle meshes for the DEM walls, in the head's body
+//! frame (spillage-and-flow-verification.md §2.11; the shapes are those of [`CutterHead`], the
+//! same the fluid mesh blocks with [`CutterHead::touches_solid`]).
+//!
+//! * `blade_1` … `blade_N`: a thin closed solid per blade. Its two faces are the centre surface
+//!   θ_k(r, z) turned by ± [`CutterHead::blade_half_angle`] along the circles (half the
+//!   thickness normal to the blade in a horizontal section, as the fluid mesh blocks it; where
+//!   the twist or the contour's slope tilts the blade, it is thinner normal to its surface, by
+//!   up to 18 % in the shipped head), for r from the blade's inner radius to the contour R(z)
+//!   and z from the hub (−H) to the ring (0); strips along the inner and outer edges, the top
+//!   and the bottom close it.
+//! * `ring`, `hub`, `pipe`: the plates of [`CutterHead::plates`], each a closed polygonal annulus.
+//! * `shaft`: the side of the shaft cylinder from the tank floor to the top of the pipe.
+//!
+//! Every closed part has outward normals (counter-clockwise seen from outside).
+
+use std::f64::consts::TAU;
+
+use super::geometry::{CutterHead, Part};
+use super::settings::CutterHeadSection;
+use crate::walls::geometry::{cylinder, TriangleMesh};
+use crate::walls::state::Vec3;
+
+/// Fewest blade segments along z and along r, so that a coarse `triangle_size` still follows
+/// the twist and the log spiral.
+const MIN_BLADE_Z_SEGMENTS: usize = 8;
+const MIN_BLADE_RADIAL_SEGMENTS: usize = 4;
+/// Fewest segments around a circle: the polygon then lies within 1 − cos(π/16) ≈ 2 % of the
+/// radius of the circle.
+const MIN_CIRCLE_SEGMENTS: usize = 16;
+
+/// The walls of the head, named as in [`wall_name`], with triangles of about `triangle_size`
+/// (blades, plates and pipe closed, the shaft a side surface).
+pub fn head_walls(section: &CutterHeadSection, triangle_size: f64) -> Vec<(String, TriangleMesh)> {
+    let head = CutterHead::new(section);
+    let grid = BladeGrid::new(&head, triangle_size);
+    let mut walls: Vec<(String, TriangleMesh)> = (0..head.blades).map(|k| (wall_name(Part::Blade(k)), blade(&head, k, &grid))).collect();
+    for (part, r, z) in head.plates() {
+        walls.push((wall_name(part), revolved_rectangle(r, z, triangle_size)));
+    }
+    let floor = head.hub_bottom() - section.tank.below_hub;
+    let length = head.pipe_top() - floor;
+    let shaft = cylinder(
+        Vec3::new(0.0, 0.0, floor),
+        Vec3::z(),
+        head.shaft_radius,
+        length,
+        circle_segments(head.shaft_radius, triangle_size) as u32,
+        pieces(length, triangle_size) as u32,
+    );
+    walls.push(("shaft".to_string(), shaft));
+    walls
+}
+
+/// `blade_1` … `blade_N`, `ring`, `hub`, `pipe`.
+pub fn wall_name(part: Part) -> String {
+    match part {
+        Part::Blade(k) => format!("blade_{}", k + 1),
+        Part::Ring => "ring".to_string(),
+        Part::Hub => "hub".to_string(),
+        Part::Pipe => "pipe".to_string(),
+    }
+}
+
+/// Pieces of at most `size` along `length` (at least one).
+fn pieces(length: f64, size: f64) -> usize {
+    ((length / size).ceil() as usize).max(1)
+}
+
+fn circle_segments(radius: f64, triangle_size: f64) -> usize {
+    pieces(TAU * radius, triangle_size).max(MIN_CIRCLE_SEGMENTS)
+}
+
+fn cylindrical(r: f64, theta: f64, z: f64) -> Vec3 {
+    Vec3::new(r * theta.cos(), r * theta.sin(), z)
+}
+
+/// Where a blade's grid lines lie: heights from the hub to the ring, and a number of equal
+/// steps from the inner radius to the contour at each height (the same for every blade).
+struct BladeGrid {
+    z: Vec<f64>,
+    radial_segments: usize,
+}
+
+impl BladeGrid {
+    /// The contour points, and the height where the inner radius R − depth meets the shaft, are
+    /// grid heights (R, φ and the inner radius have kinks only there). Between them, steps of
+    /// at most `triangle_size` along the outer edge (a chord that includes the twist); radially,
+    /// steps of at most `triangle_size` along the spiral, whose length from r₀ to r₁ is
+    /// (r₁ − r₀) / sin φ since it crosses every circle at φ.
+    fn new(head: &CutterHead, triangle_size: f64) -> BladeGrid {
+        let height = head.height();
+        let contour = head.contour();
+        let mut kinks: Vec<f64> = contour.iter().map(|p| -p.0).collect();
+        let reach = head.shaft_radius + head.blade_depth;
+        for pair in contour.windows(2) {
+            let ((s0, r0, _), (s1, r1, _)) = (pair[0], pair[1]);
+            if (r0 - reach) * (r1 - reach) < 0.0 {
+                kinks.push(-(s0 + (s1 - s0) * (reach - r0) / (r1 - r0)));
+            }
+        }
+        kinks.sort_by(f64::total_cmp);
+        let outer_edge = |z: f64| {
+            let r = head.radius_at(z);
+            cylindrical(r, head.blade_azimuth(0, r, z), z)
+        };
+        let mut z = vec![kinks[0]];
+        for pair in kinks.windows(2) {
+            let (z0, z1) = (pair[0], pair[1]);
+            let steps = pieces((outer_edge(z1) - outer_edge(z0)).norm(), triangle_size).max((MIN_BLADE_Z_SEGMENTS as f64 * (z1 - z0) / height).ceil() as usize);
+            z.extend((1..=steps).map(|i| z0 + (z1 - z0) * i as f64 / steps as f64));
+        }
+        let longest_spiral = z.iter().map(|&z| (head.radius_at(z) - head.blade_inner_radius(z)) / head.blade_angle_at(z).sin()).fold(0.0, f64::max);
+        BladeGrid { z, radial_segments: pieces(longest_spiral, triangle_size).max(MIN_BLADE_RADIAL_SEGMENTS) }
+    }
+
+    fn radius(&self, head: &CutterHead, i: usize, z: f64) -> f64 {
+        let (inner, outer) = (head.blade_inner_radius(z), head.radius_at(z));
+        inner + (outer - inner) * i as f64 / self.radial_segments as f64
+    }
+}
+
+/// Blade `k` as a closed thin solid. Vertices: two faces (behind and ahead of the centre surface
+/// in θ), each a grid of `radial_segments + 1` radii by the grid heights. On the face behind, the
+/// grid's (r, z) order gives normals toward −θ, out of the blade; the face ahead takes the
+/// reverse order. The strips joining the faces' boundaries follow the face behind's boundary
+/// backward, so every directed edge occurs once.
+fn blade(head: &CutterHead, k: usize, grid: &BladeGrid) -> TriangleMesh {
+    let (nr, nz) = (grid.radial_segments, grid.z.len() - 1);
+    let mut mesh = TriangleMesh::default();
+    for side in [-1.0, 1.0] {
+        for &z in &grid.z {
+            for i in 0..=nr {
+                let r = grid.radius(head, i, z);
+                mesh.vertices.push(cylindrical(r, head.blade_azimuth(k, r, z) + side * head.blade_half_angle(r, z), z));
+            }
+        }
+    }
+    let index = |ahead: bool, i: usize, j: usize| (usize::from(ahead) * (nz + 1) * (nr + 1) + j * (nr + 1) + i) as u32;
+    for j in 0..nz {
+        for i in 0..nr {
+            let corners = |ahead| (index(ahead, i, j), index(ahead, i + 1, j), index(ahead, i + 1, j + 1), index(ahead, i, j + 1));
+            let (a, b, c, d) = corners(false);
+            mesh.triangles.extend([[a, b, c], [a, c, d]]);
+            let (a, b, c, d) = corners(true);
+            mesh.triangles.extend([[a, c, b], [a, d, c]]);
+        }
+    }
+    // the boundary of the (i, j) grid, counter-clockwise: bottom (hub), outer edge, top (ring),
+    // inner edge
+    let boundary: Vec<(usize, usize)> =
+        (0..nr).map(|i| (i, 0)).chain((0..nz).map(|j| (nr, j))).chain((1..=nr).rev().map(|i| (i, nz))).chain((1..=nz).rev().map(|j| (0, j))).collect();
+    for (n, &(i0, j0)) in boundary.iter().enumerate() {
+        let (i1, j1) = boundary[(n + 1) % boundary.len()];
+        let (a, b) = (index(false, i0, j0), index(false, i1, j1));
+        let (a_ahead, b_ahead) = (index(true, i0, j0), index(true, i1, j1));
+        mesh.triangles.extend([[b, a, a_ahead], [b, a_ahead, b_ahead]]);
+    }
+    mesh
+}
+
+/// The closed solid swept by the rectangle r ∈ `r`, z ∈ `z` of a meridian plane turned about
+/// the z axis in flat steps: a polygonal annulus (its volume is exactly
+/// ½ n sin(2π/n) (r₁² − r₀²) (z₁ − z₀) with n steps). The rectangle's sides are divided into
+/// pieces of at most `triangle_size`, walked counter-clockwise in the (r, z) plane so that the
+/// normals point out.
+fn revolved_rectangle(r: [f64; 2], z: [f64; 2], triangle_size: f64) -> TriangleMesh {
+    let segments = circle_segments(r[1], triangle_size);
+    let corners = [(r[0], z[0]), (r[1], z[0]), (r[1], z[1]), (r[0], z[1])];
+    let mut profile = Vec::new();
+    for (n, &(r0, z0)) in corners.iter().enumerate() {
+        let (r1, z1) = corners[(n + 1) % corners.len()];
+        let steps = pieces((r1 - r0).hypot(z1 - z0), triangle_size);
+        profile.extend((0..steps).map(|s| (r0 + (r1 - r0) * s as f64 / steps as f64, z0 + (z1 - z0) * s as f64 / steps as f64)));
+    }
+    let mut mesh = TriangleMesh::default();
+    for &(radius, height) in &profile {
+        mesh.vertices.extend((0..segments).map(|i| cylindrical(radius, TAU * i as f64 / segments as f64, height)));
+    }
+    let index = |p: usize, i: usize| ((p % profile.len()) * segments + i % segments) as u32;
+    for p in 0..profile.len() {
+        for i in 0..segments {
+            let (a, b, c, d) = (index(p, i), index(p, i + 1), index(p + 1, i + 1), index(p + 1, i));
+            mesh.triangles.extend([[a, b, c], [a, c, d]]);
+        }
+    }
+    mesh
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+    use std::f64::consts::PI;
+
+    use super::*;
+    use crate::walls::geometry::WallMesh;
+    use crate::walls::state::WallMotion;
+
+    /// The target triangle size of the tests: a fine fluid cell.
+    const SIZE: f64 = 0.02;
+
+    fn case_text() -> String {
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../cases/cutter_head.toml")).unwrap()
+    }
+
+    fn section() -> CutterHeadSection {
+        let case = crate::case::Case::from_toml(&case_text(), std::path::Path::new("cutter_head.toml")).unwrap();
+        case.cutter_head.unwrap()
+    }
+
+    fn corners(mesh: &TriangleMesh, t: &[u32; 3]) -> [Vec3; 3] {
+        t.map(|v| mesh.vertices[v as usize])
+    }
+
+    /// ∮ (x/3)·n dA by the divergence theorem: the sum of the tetrahedra origin–triangle.
+    fn signed_volume(mesh: &TriangleMesh) -> f64 {
+        mesh.triangles.iter().map(|t| corners(mesh, t)).map(|[a, b, c]| a.dot(&b.cross(&c)) / 6.0).sum()
+    }
+
+    /// The winding number of the closed mesh around `p`: the triangles' signed solid angles
+    /// (Van Oosterom & Strackee) over 4π; 1 inside, 0 outside.
+    fn winding_number(mesh: &TriangleMesh, p: Vec3) -> f64 {
+        let solid_angle = |[a, b, c]: [Vec3; 3]| {
+            let (a, b, c) = (a - p, b - p, c - p);
+            let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+            2.0 * a.dot(&b.cross(&c)).atan2(la * lb * lc + a.dot(&b) * lc + a.dot(&c) * lb + b.dot(&c) * la)
+        };
+        mesh.triangles.iter().map(|t| solid_angle(corners(mesh, t))).sum::<f64>() / (4.0 * PI)
+    }
+
+    #[test]
+    fn every_part_is_closed_oriented_outward_and_a_valid_wall_mesh() {
+        let walls = head_walls(&section(), SIZE);
+        for (name, mesh) in &walls {
+            WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap_or_else(|e| panic!("{name}: {e}"));
+            if name == "shaft" {
+                continue;
+            }
+            let mut directed = HashMap::new();
+            let mut undirected = HashMap::new();
+            for t in &mesh.triangles {
+                for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    *directed.entry((a, b)).or_insert(0) += 1;
+                    *undirected.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                }
+            }
+            assert!(undirected.values().all(|&n| n == 2), "{name}: an edge not shared by exactly two triangles");
+            assert!(directed.values().all(|&n| n == 1), "{name}: a directed edge twice (inconsistent orientation)");
+            assert!(signed_volume(mesh) > 0.0, "{name}: normals point inward");
+        }
+    }
+
+    #[test]
+    fn the_plates_enclose_their_polygonal_annuli() {
+        let section = section();
+        let head = CutterHead::new(&section);
+        let walls = head_walls(&section, SIZE);
+        for (part, r, z) in head.plates() {
+            let mesh = &walls.iter().find(|(name, _)| *name == wall_name(part)).unwrap().1;
+            let n = circle_segments(r[1], SIZE) as f64;
+            let polygon = 0.5 * n * (TAU / n).sin() * (r[1] * r[1] - r[0] * r[0]) * (z[1] - z[0]);
+            let volume = signed_volume(mesh);
+            // the annulus is bounded by flat faces: exact to round-off (1e-12 relative, sums of
+            // ~10⁴ terms with coordinates from sin/cos)
+            assert!((volume - polygon).abs() < 1e-12 * polygon, "{part:?}: {volume} vs {polygon}");
+            // and the polygon falls short of the circle by 1 − sin(2π/n)/(2π/n) < (2π/n)²/6
+            let circle = PI * (r[1] * r[1] - r[0] * r[0]) * (z[1] - z[0]);
+            assert!(volume < circle && circle - volume < (TAU / n).powi(2) / 6.0 * circle, "{part:?}: {volume} vs {circle}");
+        }
+    }
+
+    #[test]
+    fn a_blade_holds_its_thickness_times_its_area() {
+        let section = section();
+        let head = CutterHead::new(&section);
+        let walls = head_walls(&section, SIZE);
+        let (t, h) = (head.blade_thickness, head.height());
+        // Midpoint quadrature over (z, r) of the centre surface x(r, z) = (r cos θ, r sin θ, z),
+        // θ = θ_k(r, z). Its area element is |x_r × x_z| = √(1 + (r θ_r)² + (r θ_z)²) dr dz. The
+        // faces are ± t / (2 r sin φ) away in θ, so the volume between them is t / sin φ dr dz
+        // (exact), and the blade is t_n = t / (sin φ √(1 + (r θ_r)² + (r θ_z)²)) thick normal
+        // to the surface: t where the surface is vertical (θ_z = 0, as r θ_r = −cot φ), thinner where
+        // the twist or the contour's slope tilts it.
+        let (nz, nr) = (880, 200);
+        let (mut area, mut volume) = (0.0, 0.0);
+        let (mut thinnest, mut thickest) = (f64::INFINITY, 0.0_f64);
+        for j in 0..nz {
+            let z = -h + h * (j as f64 + 0.5) / nz as f64;
+            let (inner, outer) = (head.blade_inner_radius(z), head.radius_at(z));
+            let (dz, dr) = (h / nz as f64, (outer - inner) / nr as f64);
+            for i in 0..nr {
+                let r = inner + dr * (i as f64 + 0.5);
+                let e = 1e-6;
+                let theta_r = (head.blade_azimuth(0, r + e, z) - head.blade_azimuth(0, r - e, z)) / (2.0 * e);
+                let theta_z = (head.blade_azimuth(0, r, z + e) - head.blade_azimuth(0, r, z - e)) / (2.0 * e);
+                let stretch = (1.0 + (r * theta_r).powi(2) + (r * theta_z).powi(2)).sqrt();
+                let sin_phi = head.blade_angle_at(z).sin();
+                area += stretch * dr * dz;
+                volume += t / sin_phi * dr * dz;
+                thinnest = thinnest.min(1.0 / (sin_phi * stretch));
+                thickest = thickest.max(1.0 / (sin_phi * stretch));
+            }
+        }
+        for (k, (_, mesh)) in walls.iter().enumerate().take(head.blades) {
+            let enclosed = signed_volume(mesh);
+            // The flat triangles are chords of the curved faces (an O(h²) error, −0.2 % at 2 cm),
+            // and the flat inner and outer edge strips cut across the arcs of r = r_in and R
+            // (+0.1 %, independent of h): within 0.5 %.
+            assert!((enclosed - volume).abs() < 5e-3 * volume, "blade {k}: {enclosed} vs {volume} m³");
+            // Thickness × area: the volume is ∫ t_n dA, so volume / (t A) is an area-weighted
+            // mean of t_n / t, between its least and greatest value (0.5 % for the mesh as above).
+            let ratio = enclosed / (t * area);
+            assert!(ratio > thinnest - 5e-3 && ratio < thickest + 5e-3, "blade {k}: volume / (t A) = {ratio}, t_n / t in [{thinnest}, {thickest}]");
+        }
+        // the tilt thins the shipped blades by ≈ 5 % on average, by up to 18 % at the outer edge
+        // where R(z) narrows toward the hub
+        assert!(thickest < 1.0 && thinnest > 0.8, "t_n / t in [{thinnest}, {thickest}]");
+    }
+
+    #[test]
+    fn the_blade_meshes_match_the_cells_the_fluid_mesh_blocks() {
+        let section = section();
+        let head = CutterHead::new(&section);
+        let walls = head_walls(&section, SIZE);
+        let grid = BladeGrid::new(&head, SIZE);
+        let per_face = grid.z.len() * (grid.radial_segments + 1);
+        let (t, h) = (head.blade_thickness, head.height());
+        for (k, (_, mesh)) in walls.iter().enumerate().take(head.blades) {
+            for (n, (behind, ahead)) in mesh.vertices[..per_face].iter().zip(&mesh.vertices[per_face..]).enumerate() {
+                // the point of the centre surface between the two faces: same r and z, the
+                // bisecting azimuth
+                let (r, z) = (behind.xy().norm(), behind.z);
+                let mid = behind + ahead;
+                let theta = mid.y.atan2(mid.x);
+                // a 1 mm cell around it, kept inside the blade's extent (the plates start at the
+                // blade's top and bottom)
+                let e = 1e-3;
+                let cell_r = [(r - e).max(head.blade_inner_radius(z)), (r + e).min(head.radius_at(z))];
+                let cell_z = [(z - e).max(-h), (z + e).min(0.0)];
+                assert_eq!(head.touches_solid(cell_r, [theta - e / r, theta + e / r], cell_z), Some(Part::Blade(k)), "blade {k}, vertex {n}");
+                // the unit normal of the centre surface θ = θ_k(r, z): ∇(θ − θ_k) ∝ (−r θ_r, 1, −r θ_z)
+                // in (e_r, e_θ, e_z)
+                let d = 1e-6;
+                let theta_r = (head.blade_azimuth(k, r + d, z) - head.blade_azimuth(k, r - d, z)) / (2.0 * d);
+                let theta_z = (head.blade_azimuth(k, r, z + d) - head.blade_azimuth(k, r, z - d)) / (2.0 * d);
+                let (e_r, e_theta) = (Vec3::new(theta.cos(), theta.sin(), 0.0), Vec3::new(-theta.sin(), theta.cos(), 0.0));
+                let normal = (-r * theta_r * e_r + e_theta - r * theta_z * Vec3::z()).normalize();
+                let centre = cylindrical(r, theta, z);
+                for side in [-1.5, 1.5] {
+                    let off = centre + side * t * normal;
+                    assert!(winding_number(mesh, off).abs() < 0.5, "blade {k}, vertex {n}: 1.5 t off the surface is inside");
+                }
+                // away from the blade's edges, the centre surface and points 0.3 t off it are inside:
+                // the blade is at least 0.8 t thick normal to the surface (the tilt thins it, see
+                // a_blade_holds_its_thickness_times_its_area), which leaves 0.1 t = 1.5 mm for the
+                // sag of the faces' chords (< 0.5 mm at 2 cm triangles)
+                let (i, j) = (n % (grid.radial_segments + 1), n / (grid.radial_segments + 1));
+                if i > 0 && i < grid.radial_segments && j > 0 && j < grid.z.len() - 1 {
+                    for side in [-0.3, 0.0, 0.3] {
+                        let p = centre + side * t * normal;
+                        assert!((winding_number(mesh, p) - 1.0).abs() < 0.5, "blade {k}, vertex {n}: {side} t off the centre surface is outside");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_particle_case_gets_the_head_walls_turning_with_the_rotor() {
+        let text = case_text()
+            + "\n[[particles.materials]]\nname = \"steel\"\ndensity = 7850.0\nyoungs_modulus = 200e9\npoisson_ratio = 0.27\nrestitution = 0.97\nfriction = 0.15\n";
+        let case = crate::case::Case::from_toml(&text, std::path::Path::new("cutter_head.toml")).unwrap();
+        let state = crate::walls::build(&case, std::path::Path::new(".")).unwrap();
+        let names: Vec<&str> = state.walls.iter().map(|w| w.name.as_str()).collect();
+        assert_eq!(names, ["blade_1", "blade_2", "blade_3", "blade_4", "blade_5", "blade_6", "hub", "ring", "pipe", "shaft"]);
+        assert!(state.walls.iter().all(|w| w.motion == WallMotion::Rotor && w.material == 0));
+        // without [particles] (the shipped fluid-only run) there are no walls
+        let fluid_only = crate::case::Case::from_toml(&case_text(), std::path::Path::new("cutter_head.toml")).unwrap();
+        assert!(crate::walls::build(&fluid_only, std::path::Path::new(".")).unwrap().walls.is_empty());
+        // a material that is not a [[particles.materials]] entry is an error naming the key
+        let wrong = text.replace("material = \"steel\"", "material = \"brass\"");
+        let case = crate::case::Case::from_toml(&wrong, std::path::Path::new("cutter_head.toml")).unwrap();
+        let error = crate::walls::build(&case, std::path::Path::new(".")).unwrap_err().to_string();
+        assert!(error.contains("cutter_head.material") && error.contains("brass"), "{error}");
+    }
+}

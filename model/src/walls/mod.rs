@@ -1,4 +1,8 @@
 //! Wall geometry: triangle meshes (generated shapes or STL) with rigid motion.
+//!
+//! Cutter head walls: in a particle run, a `[cutter_head]` with a `material` adds its blades,
+//! ring, hub, pipe and shaft as walls turning with the `[rotor]` ([`crate::cutter_head::walls`],
+//! spillage-and-flow-verification.md §2.11).
 
 pub mod geometry;
 pub mod settings;
@@ -21,7 +25,8 @@ pub enum WallError {
     Geometry { wall: String, message: String },
 }
 
-/// Builds every `[[walls]]` entry at its t = 0 pose; STL paths are relative to `case_dir`.
+/// Builds every `[[walls]]` entry, then the cutter head's walls, at their t = 0 pose; STL paths
+/// are relative to `case_dir`.
 pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
     let mut walls = Vec::new();
     for (i, section) in case.walls.iter().enumerate() {
@@ -57,9 +62,27 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
             }
             MotionSection::Translate { velocity } => WallMotion::Translate { velocity: Vec3::from(*velocity) },
         };
-        let TriangleMesh { vertices, triangles } = mesh;
-        geometry::WallMesh::new(&vertices, &triangles).map_err(|message| WallError::Geometry { wall: section.name.clone(), message })?;
-        walls.push(Wall { name: section.name.clone(), material, vertices, triangles, motion, pose: Default::default() });
+        walls.push(wall(section.name.clone(), material, mesh, motion)?);
+    }
+    if let (Some(head), Some(particles)) = (&case.cutter_head, &case.particles) {
+        if let Some(name) = &head.material {
+            let material = particles
+                .material_index(name)
+                .ok_or_else(|| WallError::Field(FieldError::new("cutter_head.material", format!("{name:?}"), "the name of a [[particles.materials]] entry")))?;
+            // triangles the size of the fluid cells
+            for (name, mesh) in crate::cutter_head::walls::head_walls(head, head.mesh.cell_size) {
+                walls.push(wall(name, material, mesh, WallMotion::Rotor)?);
+            }
+        }
     }
     Ok(WallState { walls })
+}
+
+/// A wall at its body-frame pose, once its mesh is known to be valid.
+fn wall(name: String, material: usize, mesh: TriangleMesh, motion: WallMotion) -> Result<Wall, WallError> {
+    let TriangleMesh { vertices, triangles } = mesh;
+    match geometry::WallMesh::new(&vertices, &triangles) {
+        Ok(_) => Ok(Wall { name, material, vertices, triangles, motion, pose: Default::default() }),
+        Err(message) => Err(WallError::Geometry { wall: name, message }),
+    }
 }
