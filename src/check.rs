@@ -24,6 +24,9 @@ pub struct Derived {
 
 pub fn derive(case: &Case) -> Derived {
     let mut d = Derived::default();
+    if let Some(head) = &case.cutter_head {
+        return derive_head(case, head).unwrap_or(d);
+    }
     let Some(mesh) = &case.mesh else { return d };
     d.cells = mesh.cell_count();
     let (min_size, extent, r_max) = match mesh {
@@ -101,6 +104,53 @@ pub fn derive(case: &Case) -> Derived {
     d
 }
 
+/// A cutter head's cells (the open ones), its tip speed and the Courant number of the tip
+/// over the smallest cell.
+fn derive_head(case: &Case, head: &spillage_model::cutter_head::CutterHeadSection) -> Option<Derived> {
+    let spec = spillage_model::cutter_head::fluid_mesh::blocked_rotor_stator(head).ok()?;
+    let n_stator = (spec.stator_r.len() - 1) * spec.n_theta_stator * (spec.z_edges.len() - 1);
+    let cells = spec.blocked.iter().filter(|b| !**b).count() + n_stator;
+    let arc = spec.rotor_r[0] * std::f64::consts::TAU / spec.n_theta_rotor as f64;
+    let dz = spec.z_edges.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+    let min_size = arc.min(dz).min(spec.rotor_r[1] - spec.rotor_r[0]);
+    let tip = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity().abs()) * head.contour[0][1];
+    Some(Derived {
+        cells,
+        min_cell_size: Some(min_size),
+        velocity_scale: (tip > 0.0).then_some(tip),
+        courant_estimate: case.time.dt.map(|dt| tip * dt / min_size),
+        reynolds: case.fluid.as_ref().map(|f| tip * 2.0 * head.contour[0][1] / f.kinematic_viscosity),
+        memory_estimate_bytes: cells * (20 + 3 * 17) * 8,
+    })
+}
+
+/// The head's operating point in the thesis' dimensionless numbers (spillage-and-flow-
+/// verification.md §2.11) and the Euler-turbine model's prediction on its contour (§2).
+fn head_lines(case: &Case) -> Vec<String> {
+    use spillage_analytic::spillage_model::{solve, CutterProfile, ProfilePoint, SpillageInputs};
+    let (Some(head), Some(rotor)) = (&case.cutter_head, &case.rotor) else { return Vec::new() };
+    let omega = rotor.angular_velocity().abs();
+    let rpm = omega * 60.0 / std::f64::consts::TAU;
+    let r_c = head.contour[0][1];
+    let pipe_area = std::f64::consts::PI * (head.opening_radius().powi(2) - head.shaft_radius.powi(2));
+    let v_m = head.suction_discharge / pipe_area;
+    let mut lines = vec![
+        format!("head         {} blades, R_c {r_c} m, H {} m, {rpm:.1} rpm, Q_m {} m³/s", head.blades, head.height(), head.suction_discharge),
+        format!("             tip speed ω R_c {:.3} m/s, suction velocity v_m {v_m:.3} m/s, ω R_c / v_m {:.3}, θ_c = Q_m/(ω R_c³) {:.3}", omega * r_c, omega * r_c / v_m, head.suction_discharge / (omega * r_c.powi(3))),
+    ];
+    let points = head.contour.iter().map(|p| ProfilePoint { axial_distance: p[0], radius: p[1], blade_angle: p[2].to_radians() }).collect();
+    if let Ok(profile) = CutterProfile::new(points) {
+        if let Ok(sol) = solve(&SpillageInputs::calibrated_water(profile, rpm, head.suction_discharge)) {
+            lines.push(format!(
+                "             Euler-turbine model (α 0.375, β 0.774, water): out-flowing flux {:.4} m³/s = {:.3} Q_m",
+                sol.outflow_discharge,
+                sol.outflow_discharge / head.suction_discharge
+            ));
+        }
+    }
+    lines
+}
+
 /// Smallest cell of `n` cells over `len` with geometric ratio `grading` of last to first.
 fn smallest_graded_cell(len: f64, n: usize, grading: f64) -> f64 {
     if n <= 1 || (grading - 1.0).abs() < 1e-12 {
@@ -118,8 +168,11 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
     if !case.case.description.is_empty() {
         println!("             {}", case.case.description);
     }
-    if case.mesh.is_some() {
+    if case.mesh.is_some() || case.cutter_head.is_some() {
         println!("cells        {}", d.cells);
+    }
+    for line in head_lines(&case) {
+        println!("{line}");
     }
     if let Some(h) = d.min_cell_size {
         println!("min cell     {h:.4e} m");
@@ -146,7 +199,7 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
     if let Some(wear) = &case.wear {
         println!("wear         {:?} law: impacts are logged, but wall recession is not modelled yet (the [wear] section is validated only)", wear.law);
     }
-    if case.mesh.is_some() {
+    if case.mesh.is_some() || case.cutter_head.is_some() {
         println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
     }
     println!("ok: the case is valid");

@@ -5,6 +5,7 @@
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
 pub mod coupling;
+pub mod cutter_head;
 pub mod dem;
 pub mod fluid;
 
@@ -96,6 +97,9 @@ fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyho
     if coupling::CHECKS.contains(&check) {
         return coupling::run_check(case, check, full, plots);
     }
+    if cutter_head::CHECKS.contains(&check) {
+        return cutter_head::run_check(case, check, full);
+    }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
@@ -105,6 +109,7 @@ pub fn known_checks() -> Vec<&'static str> {
     checks.extend_from_slice(dem::CHECKS);
     checks.extend_from_slice(fluid::CHECKS);
     checks.extend_from_slice(coupling::CHECKS);
+    checks.extend_from_slice(cutter_head::CHECKS);
     checks
 }
 
