@@ -6,6 +6,7 @@ mod frames;
 mod head_report;
 mod progress;
 mod run;
+mod sweep;
 mod verify_cmd;
 
 use std::path::PathBuf;
@@ -53,6 +54,14 @@ enum Command {
     /// Evaluate the closed-form and semi-analytic answers the solvers are checked against
     /// (`spillage analytic --list`).
     Analytic(analytic_cmd::AnalyticArgs),
+    /// Run a case at several values of any of its keys and tabulate and plot the results.
+    ///
+    /// `--set rotor.rpm=30,60,90` (several --set give every combination): each point runs as a
+    /// `spillage run` in its own folder, several at a time; then the final values and window
+    /// means of every series column go into sweep.csv and sweep.md and are plotted against the
+    /// swept value (with the analytic spillage model for a cutter head). Resumable: completed
+    /// points with an unchanged case are skipped.
+    Sweep(sweep::SweepArgs),
     /// Run the verification ladder (cases/verification): one row per checked quantity against its
     /// exact or published value; exit status 1 if any fails.
     Verify {
@@ -78,6 +87,7 @@ fn main() -> ExitCode {
         Command::Check { case } => check::check(&case),
         Command::Verify { cases, json, full, plots } => verify_cmd::verify(&cases, json, full, plots.as_deref()),
         Command::Analytic(args) => analytic_cmd::run(&args),
+        Command::Sweep(args) => sweep::sweep(&args),
     };
     match result {
         Ok(code) => code,

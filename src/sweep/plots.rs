@@ -1,0 +1,234 @@
+//! The sweep's figures, drawn when one numeric key is swept: every series column's window mean
+//! against the swept value, and for a cutter head swept in rotor speed or suction discharge the
+//! simulation against the Euler-turbine model on the same contour.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use spillage_model::output::plot::{write_png, Plot, Series};
+
+use super::analytic::{HeadModel, ModelAnswer};
+use super::table::PointRow;
+
+/// Points of the analytic curve across the swept range: dense enough to look smooth between
+/// the simulated points.
+const ANALYTIC_SAMPLES: usize = 201;
+
+/// Draws the figures into `dir`; `xs[i]` is row i's swept value. Only completed points are
+/// drawn (a failed run's means describe a different, shorter run). Returns the files written.
+pub fn draw_sweep_plots(dir: &Path, key: &str, xs: &[f64], rows: &[PointRow], model: Option<&HeadModel>) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create the plot folder {}", dir.display()))?;
+    let mut written = Vec::new();
+    for column in series_columns(rows) {
+        let mean = format!("{column}_mean");
+        let points = simulated(xs, rows, &mean);
+        if points.is_empty() {
+            continue;
+        }
+        let path = dir.join(format!("{mean}.png"));
+        let title = format!("{column}: mean over the averaging window");
+        let plot = Plot { title: &title, x_label: key, y_label: &column, log_x: false, log_y: false, series: vec![Series { label: &mean, points: &points }] };
+        write_png(&plot, &path)?;
+        written.push(path);
+    }
+    if let (Some(model), Some(axis)) = (model, OperatingAxis::of_key(key)) {
+        written.extend(draw_model_comparison(dir, axis, xs, rows, model)?);
+    }
+    Ok(written)
+}
+
+/// Series column names of the completed rows, in order of first appearance.
+fn series_columns(rows: &[PointRow]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for row in rows.iter().filter(|r| r.completed()) {
+        for column in &row.series.columns {
+            if !names.contains(&column.name) {
+                names.push(column.name.clone());
+            }
+        }
+    }
+    names
+}
+
+/// (swept value, value of `column`) of the completed rows that have it, sorted by the value.
+fn simulated(xs: &[f64], rows: &[PointRow], column: &str) -> Vec<(f64, f64)> {
+    let mut points: Vec<(f64, f64)> = xs.iter().zip(rows).filter(|(_, row)| row.completed()).filter_map(|(&x, row)| Some((x, row.number(column)?))).collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    points
+}
+
+/// The swept operating parameter of a head, when the key is one the model takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OperatingAxis {
+    RotorSpeed,
+    SuctionDischarge,
+}
+
+impl OperatingAxis {
+    pub fn of_key(key: &str) -> Option<Self> {
+        match key {
+            "rotor.rpm" => Some(OperatingAxis::RotorSpeed),
+            "cutter_head.suction_discharge" => Some(OperatingAxis::SuctionDischarge),
+            _ => None,
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            OperatingAxis::RotorSpeed => "rotor.rpm [rev/min]",
+            OperatingAxis::SuctionDischarge => "cutter_head.suction_discharge (Q_m) [m³/s]",
+        }
+    }
+
+    fn file_suffix(self) -> &'static str {
+        match self {
+            OperatingAxis::RotorSpeed => "rpm",
+            OperatingAxis::SuctionDischarge => "suction_discharge",
+        }
+    }
+
+    /// The model at swept value `x`, the other parameter at the case's value.
+    fn answer(self, model: &HeadModel, x: f64) -> anyhow::Result<ModelAnswer> {
+        match self {
+            OperatingAxis::RotorSpeed => model.answer(x, model.suction_discharge),
+            OperatingAxis::SuctionDischarge => model.answer(model.rpm, x),
+        }
+    }
+}
+
+/// `outflow_vs_<axis>.png` (simulated `hull_outflow_mean` and the model's Q₁) and
+/// `production_vs_<axis>.png` (simulated `production`, `spillage` and the model's P, S), each
+/// only when the runs report the simulated columns.
+fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[PointRow], model: &HeadModel) -> anyhow::Result<Vec<PathBuf>> {
+    let curve = model_curve(axis, xs, model)?;
+    let mut written = Vec::new();
+
+    let outflow = simulated(xs, rows, "hull_outflow_mean");
+    if !outflow.is_empty() {
+        let analytic: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.outflow_water)).collect();
+        let path = dir.join(format!("outflow_vs_{}.png", axis.file_suffix()));
+        let plot = Plot {
+            title: "Out-flowing flux: simulation and Euler-turbine model",
+            x_label: axis.label(),
+            y_label: "out-flowing flux [m³/s]",
+            log_x: false,
+            log_y: false,
+            series: vec![
+                Series { label: "simulation (hull_outflow_mean)", points: &outflow },
+                Series { label: "model Q₁ (water, α 0.375, β 0.774)", points: &analytic },
+            ],
+        };
+        write_png(&plot, &path)?;
+        written.push(path);
+    }
+
+    let (production, spillage) = (simulated(xs, rows, "production"), simulated(xs, rows, "spillage"));
+    if !production.is_empty() || !spillage.is_empty() {
+        let analytic_production: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.production_mixture)).collect();
+        let analytic_spillage: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.spillage_mixture)).collect();
+        let mut series = Vec::new();
+        if !production.is_empty() {
+            series.push(Series { label: "simulation: production", points: &production });
+        }
+        if !spillage.is_empty() {
+            series.push(Series { label: "simulation: spillage", points: &spillage });
+        }
+        series.push(Series { label: "model P (ρ₁ 1254, ρ₂ 998.2 kg/m³)", points: &analytic_production });
+        series.push(Series { label: "model S (ρ₁ 1254, ρ₂ 998.2 kg/m³)", points: &analytic_spillage });
+        let path = dir.join(format!("production_vs_{}.png", axis.file_suffix()));
+        let plot = Plot {
+            title: "Production and spillage: simulation and Euler-turbine model",
+            x_label: axis.label(),
+            y_label: "fraction",
+            log_x: false,
+            log_y: false,
+            series,
+        };
+        write_png(&plot, &path)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// The model at [`ANALYTIC_SAMPLES`] evenly spaced values from the smallest to the largest swept
+/// value.
+fn model_curve(axis: OperatingAxis, xs: &[f64], model: &HeadModel) -> anyhow::Result<Vec<(f64, ModelAnswer)>> {
+    let low = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(low.is_finite() && high.is_finite()) {
+        return Ok(Vec::new()); // no points (or values no case would accept)
+    }
+    let samples = if high > low { ANALYTIC_SAMPLES } else { 1 };
+    (0..samples)
+        .map(|i| {
+            let x = if samples == 1 { low } else { low + (high - low) * i as f64 / (samples - 1) as f64 };
+            axis.answer(model, x).map(|answer| (x, answer))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::table::{ColumnStats, SeriesSummary};
+    use spillage_model::case::Case;
+
+    fn head_model() -> HeadModel {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml");
+        let case = Case::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+        HeadModel::of_case(&case).unwrap().unwrap()
+    }
+
+    /// A completed row whose series had the given columns (final = mean = the value).
+    fn row(columns: &[(&str, f64)]) -> PointRow {
+        let columns = columns.iter().map(|&(name, value)| ColumnStats { name: name.to_string(), final_value: value, mean: value }).collect();
+        PointRow {
+            values: vec![],
+            status: "completed".into(),
+            wall_seconds: Some(1.0),
+            rule: None,
+            series: SeriesSummary { final_time: Some(1.0), window: Some((0.0, 1.0)), columns },
+            extras: vec![],
+        }
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("spillage-sweep-plots-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn a_head_swept_in_rpm_gets_the_model_comparison() {
+        let dir = scratch("head");
+        let rows: Vec<PointRow> = [30.0, 60.0, 90.0].iter().map(|&rpm| row(&[("hull_outflow", 0.001 * rpm), ("production", 0.6), ("spillage", 0.4)])).collect();
+        let written = draw_sweep_plots(&dir, "rotor.rpm", &[30.0, 60.0, 90.0], &rows, Some(&head_model())).unwrap();
+        let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        assert_eq!(names, ["hull_outflow_mean.png", "production_mean.png", "spillage_mean.png", "outflow_vs_rpm.png", "production_vs_rpm.png"]);
+        assert!(written.iter().all(|p| p.is_file()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn runs_without_the_head_columns_get_no_comparison() {
+        let dir = scratch("no_head_columns");
+        let rows = vec![row(&[("kinetic_energy", 1.0)]), row(&[("kinetic_energy", 2.0)])];
+        let written = draw_sweep_plots(&dir, "cutter_head.suction_discharge", &[0.1, 0.2], &rows, Some(&head_model())).unwrap();
+        assert_eq!(written, [dir.join("kinetic_energy_mean.png")]);
+        let mut failed = rows.clone();
+        failed[0].status = "failed: diverged".into();
+        failed[1].status = "failed: diverged".into();
+        assert!(draw_sweep_plots(&dir, "rotor.rpm", &[1.0, 2.0], &failed, None).unwrap().is_empty(), "failed points are not drawn");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_model_curve_spans_the_swept_range_densely() {
+        let curve = model_curve(OperatingAxis::RotorSpeed, &[90.0, 20.0, 45.0], &head_model()).unwrap();
+        assert_eq!(curve.len(), ANALYTIC_SAMPLES);
+        assert_eq!((curve[0].0, curve[ANALYTIC_SAMPLES - 1].0), (20.0, 90.0));
+        // The model pumps more with speed: Q₁ grows from the lowest to the highest rpm.
+        assert!(curve[ANALYTIC_SAMPLES - 1].1.outflow_water > curve[0].1.outflow_water);
+        assert_eq!(model_curve(OperatingAxis::SuctionDischarge, &[0.12], &head_model()).unwrap().len(), 1);
+    }
+}
