@@ -61,7 +61,7 @@ pub fn mean_fluxes(case: &Case) -> Result<(f64, f64)> {
 fn with(case: &Case, edit: impl FnOnce(&mut Case)) -> Result<Case> {
     let mut c = case.clone();
     edit(&mut c);
-    c.validate().map_err(|e| anyhow!("{}: {} = {}: expected {}", case.path.display(), e.key, e.value, e.allowed))?;
+    c.finish().map_err(|e| anyhow!("{}: {} = {}: expected {}", case.path.display(), e.key, e.value, e.allowed))?;
     Ok(c)
 }
 

@@ -56,6 +56,10 @@ pub struct Case {
     /// The file this case was read from (set by [`Case::load`]).
     #[serde(skip)]
     pub path: PathBuf,
+    /// Whether the conditions a `[cutter_head]` derives (its floor and suction) are in
+    /// `boundary` ([`Case::finish`]).
+    #[serde(skip)]
+    derived_conditions: bool,
 }
 
 impl Case {
@@ -79,8 +83,7 @@ impl Case {
             CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(message) }
         })?;
         case.path = path.to_path_buf();
-        let validated = case.validate().and_then(|()| case.add_suction_condition());
-        validated.map_err(|field| {
+        case.finish().map_err(|field| {
             let (line, column) = match locate::key_position(text, &field.key) {
                 Some((l, c)) => (Some(l), Some(c)),
                 None => (None, None),
@@ -88,6 +91,19 @@ impl Case {
             CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Invalid(field) }
         })?;
         Ok(case)
+    }
+
+    /// Validates the case and derives what follows from it (a cutter head's floor and suction
+    /// conditions from its discharge and mesh). Call it again after editing a loaded case.
+    pub fn finish(&mut self) -> Result<(), FieldError> {
+        if self.derived_conditions {
+            for p in crate::cutter_head::fluid_mesh::FLOW_PATCHES {
+                self.boundary.remove(p);
+            }
+            self.derived_conditions = false;
+        }
+        self.validate()?;
+        self.add_suction_condition()
     }
 
     /// A cutter head's tank floor gets the uniform upward velocity that carries
@@ -100,6 +116,7 @@ impl Case {
         let velocity = head.suction_discharge / area;
         self.boundary.insert("floor".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity] });
         self.boundary.insert("suction".into(), BoundaryCondition::PressureOutlet { pressure: 0.0 });
+        self.derived_conditions = true;
         Ok(())
     }
 
@@ -125,8 +142,12 @@ impl Case {
             if self.fluid.is_none() {
                 return Err(FieldError::new("fluid", "(missing)", "a [fluid] section with a [cutter_head]"));
             }
-            if self.rotor.is_none() {
-                return Err(FieldError::new("rotor", "(missing)", "a [rotor] section (rpm or omega) with a [cutter_head]"));
+            match &self.rotor {
+                None => return Err(FieldError::new("rotor", "(missing)", "a [rotor] section (rpm or omega) with a [cutter_head]")),
+                Some(r) if r.axis != [0.0, 0.0, 1.0] => {
+                    return Err(FieldError::new("rotor.axis", format!("{:?}", r.axis), "[0, 0, 1] for a cutter head (turn it the other way with a negative rpm)"))
+                }
+                _ => {}
             }
         }
         let rotor_mesh = matches!(self.mesh, Some(MeshSection::RotorStator { .. })) || self.cutter_head.is_some();
@@ -173,7 +194,7 @@ impl Case {
             (Some(mesh), _) => Some(mesh.boundary_patches()),
             (None, Some(_)) => {
                 use crate::cutter_head::fluid_mesh::{FLOW_PATCHES, PATCHES};
-                if let Some(p) = FLOW_PATCHES.iter().find(|p| self.boundary.contains_key(**p)) {
+                if let Some(p) = FLOW_PATCHES.iter().find(|p| self.boundary.contains_key(**p) && !self.derived_conditions) {
                     return Err(FieldError::new(
                         format!("boundary.{p}"),
                         format!("(a [boundary.{p}] section)"),

@@ -46,10 +46,21 @@ pub struct HullFlux {
 }
 
 impl HullFaces {
-    /// Sorts the mesh's internal faces: a cell is inside when its centre is inside the contour
-    /// hull (rotation leaves r and z alone, so this holds at every angle).
+    /// Sorts the mesh's internal faces: a cell is inside when its centre lies between the hub
+    /// and the ring and its innermost point within the contour radius R(z) (rotation leaves r
+    /// and z alone, so this holds at every angle). The cells the contour crosses are inside
+    /// because the blades' staircase fills the cells they touch: the hull wraps the blocked
+    /// blade tips, as the thesis' hull wraps the blade contour, and converges to R(z) with the
+    /// mesh. (A hull through the cell centres cut through the staircase tips at 5 cm cells and
+    /// saw a fifth of the outflow between them.)
     pub fn new(head: &CutterHead, mesh: &Mesh) -> HullFaces {
-        let inside: Vec<bool> = mesh.cell_centres.iter().map(|c| head.inside_hull(c.x.hypot(c.y), c.z)).collect();
+        let inside: Vec<bool> = (0..mesh.n_cells())
+            .map(|cell| {
+                let c = mesh.cell_centres[cell];
+                let r_min = mesh.cell_points[cell].iter().map(|&p| mesh.points[p].x.hypot(mesh.points[p].y)).fold(f64::INFINITY, f64::min);
+                c.z >= -head.height() && c.z <= 0.0 && r_min < head.radius_at(c.z)
+            })
+            .collect();
         let (mut hull, mut mouth) = (Vec::new(), Vec::new());
         for f in 0..mesh.n_internal_faces {
             let (o, n) = (mesh.face_owner[f], mesh.face_neighbour[f]);

@@ -37,9 +37,12 @@ pub struct ExitRecord {
 }
 
 /// Creates the particles owed by each feed for a step of `dt` from `time`: the rate times the
-/// part of [time, time + dt] inside the feed's [start, end) accumulates as a debt and whole particles are placed, never overlapping others, at random in the feed's
-/// region; a particle that cannot be placed now stays owed. Returns how many were created.
-pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt: f64) -> u64 {
+/// part of [time, time + dt] inside the feed's [start, end) accumulates as a debt and whole
+/// particles are placed at random in the feed's region, never overlapping other particles and
+/// only where `clear(centre, radius)` says the sphere is clear of the walls (a cutter head's
+/// blades, spillage-and-flow-verification.md §6.1 item 1); a particle that cannot be placed now
+/// stays owed. Returns how many were created.
+pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt: f64, clear: impl Fn(&Vec3, f64) -> bool) -> u64 {
     let mut created = 0;
     for (f, feed) in section.feed.iter().enumerate() {
         let active = (time + dt).min(feed.end.unwrap_or(f64::INFINITY)) - time.max(feed.start);
@@ -54,7 +57,7 @@ pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt
                 Diameter::Uniform { min, max } => state.feed_random[f].uniform(min, max),
             };
             let mut random = state.feed_random[f].clone();
-            let Some(position) = place_without_overlap(&feed.region, d, &state.particles, &mut random) else { break };
+            let Some(position) = place_without_overlap(&feed.region, d, &state.particles, &mut random, &clear) else { break };
             state.feed_random[f] = random;
             let particle = new_particle(section, state, material, d, position, Vec3::from(feed.velocity));
             state.particles.push(particle);

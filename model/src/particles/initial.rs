@@ -57,9 +57,10 @@ pub fn new_particle(section: &ParticlesSection, state: &mut ParticleState, mater
     }
 }
 
-/// A random centre in `region` for a sphere of `diameter` lying fully inside it and overlapping
-/// none of `existing`, or `None` after [`PLACEMENT_ATTEMPTS`] tries.
-pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Particle], random: &mut SplitMix64) -> Option<Vec3> {
+/// A random centre in `region` for a sphere of `diameter` lying fully inside it, overlapping
+/// none of `existing` and accepted by `clear(centre, radius)`, or `None` after
+/// [`PLACEMENT_ATTEMPTS`] tries.
+pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Particle], random: &mut SplitMix64, clear: impl Fn(&Vec3, f64) -> bool) -> Option<Vec3> {
     let r = 0.5 * diameter;
     if (0..3).any(|k| region.max[k] - region.min[k] < diameter) {
         return None;
@@ -70,7 +71,7 @@ pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Part
             random.uniform(region.min[1] + r, region.max[1] - r),
             random.uniform(region.min[2] + r, region.max[2] - r),
         );
-        if existing.iter().all(|q| (q.position - p).norm() >= r + q.radius()) {
+        if existing.iter().all(|q| (q.position - p).norm() >= r + q.radius()) && clear(&p, r) {
             return Some(p);
         }
     }
@@ -150,7 +151,7 @@ fn add_group(section: &ParticlesSection, group: &GroupSection, key: &str, state:
             let mut random = SplitMix64::new(*seed);
             for placed in 0..*count {
                 let d = draw_diameter(diameter, &mut random);
-                let p = place_without_overlap(region, d, &state.particles, &mut random).ok_or_else(|| {
+                let p = place_without_overlap(region, d, &state.particles, &mut random, |_, _| true).ok_or_else(|| {
                     FieldError::new(format!("{key}.count"), count, format!("a count that fits the region without overlap (only {placed} could be placed)"))
                 })?;
                 let particle = new_particle(section, state, material, d, p, Vec3::from(*velocity));
