@@ -136,7 +136,12 @@ fn head_lines(case: &Case) -> Vec<String> {
     let v_m = head.suction_discharge / pipe_area;
     let mut lines = vec![
         format!("head         {} blades, R_c {r_c} m, H {} m, {rpm:.1} rpm, Q_m {} m³/s", head.blades, head.height(), head.suction_discharge),
-        format!("             tip speed ω R_c {:.3} m/s, suction velocity v_m {v_m:.3} m/s, ω R_c / v_m {:.3}, θ_c = Q_m/(ω R_c³) {:.3}", omega * r_c, omega * r_c / v_m, head.suction_discharge / (omega * r_c.powi(3))),
+        format!(
+            "             tip speed ω R_c {:.3} m/s, suction velocity v_m {v_m:.3} m/s, ω R_c / v_m {:.3}, θ_c = Q_m/(ω R_c³) {:.3}",
+            omega * r_c,
+            omega * r_c / v_m,
+            head.suction_discharge / (omega * r_c.powi(3))
+        ),
     ];
     let points = head.contour.iter().map(|p| ProfilePoint { axial_distance: p[0], radius: p[1], blade_angle: p[2].to_radians() }).collect();
     if let Ok(profile) = CutterProfile::new(points) {
@@ -216,9 +221,7 @@ fn particle_lines(case: &Case) -> Vec<String> {
         GroupSection::List { diameter, .. }
         | GroupSection::Lattice { diameter, .. }
         | GroupSection::HeadLattice { diameter, .. }
-        | GroupSection::Random { diameter, .. } => {
-            (diameter.smallest(), diameter.largest())
-        }
+        | GroupSection::Random { diameter, .. } => (diameter.smallest(), diameter.largest()),
     }));
     let (Some(d_min), Some(d_max)) = (diameters.iter().map(|d| d.0).reduce(f64::min), diameters.iter().map(|d| d.1).reduce(f64::max)) else {
         return vec!["particles    none placed or fed".into()];

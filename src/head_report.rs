@@ -40,7 +40,8 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             ));
             let q_m: Vec<(f64, f64)> = time.iter().map(|t| (*t, head.suction_discharge)).collect();
             let q_out: Vec<(f64, f64)> = time.iter().copied().zip(outflow.iter().copied()).collect();
-            let mut series = vec![Series { label: "out-flowing flux Q_out (Eq. 8.4)", points: &q_out }, Series { label: "suction discharge Q_m", points: &q_m }];
+            let mut series =
+                vec![Series { label: "out-flowing flux Q_out (Eq. 8.4)", points: &q_out }, Series { label: "suction discharge Q_m", points: &q_m }];
             let net: Vec<(f64, f64)>;
             if let Some(n) = table.column("hull_net_flux") {
                 net = time.iter().copied().zip(n.iter().map(|q| -q)).collect();
@@ -54,7 +55,10 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             let s: Vec<(f64, f64)> = time.iter().copied().zip(spillage).collect();
             let title = format!("{}: production and spillage (Eq. 8.6)", case.case.name);
             let series = vec![Series { label: "production P = sucked / created", points: &p }, Series { label: "spillage S = spilled / created", points: &s }];
-            write_png(&Plot { title: &title, x_label: "time [s]", y_label: "fraction of the particles [-]", log_x: false, log_y: false, series }, &plots.join("fractions.png"))?;
+            write_png(
+                &Plot { title: &title, x_label: "time [s]", y_label: "fraction of the particles [-]", log_x: false, log_y: false, series },
+                &plots.join("fractions.png"),
+            )?;
         }
     }
     if let Some(particles) = &state.particles {
@@ -66,7 +70,12 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             counts.sucked,
             particles.counts.created
         ));
-        lines.push(format!("spillage          {:.1} % ({} spilled, {} still in the head)", 100.0 * counts.spilled as f64 / created, counts.spilled, particles.particles.len()));
+        lines.push(format!(
+            "spillage          {:.1} % ({} spilled, {} still in the head)",
+            100.0 * counts.spilled as f64 / created,
+            counts.spilled,
+            particles.particles.len()
+        ));
         let bins = exit_height_histogram(&head, &particles.exits);
         let mut csv = String::from("bin_top_z_m,bin_bottom_z_m,spilled\n");
         for (top, n) in &bins {
@@ -75,12 +84,19 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         std::fs::write(out.join("spillage_heights.csv"), csv)?;
         if counts.spilled > 0 {
             let top_share = bins[0].1 as f64 / counts.spilled as f64;
-            lines.push(format!("where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv)", 100.0 * top_share, 100.0 * EXIT_BIN));
+            lines.push(format!(
+                "where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv)",
+                100.0 * top_share,
+                100.0 * EXIT_BIN
+            ));
             // a bar outline: count against the bin's depth under the ring
             let outline: Vec<(f64, f64)> = bins.iter().flat_map(|(top, n)| [(*n as f64, -top * 100.0), (*n as f64, (EXIT_BIN - top) * 100.0)]).collect();
             let title = format!("{}: where the spilled particles left (Fig. 8.8)", case.case.name);
             let series = vec![Series { label: "spilled particles per 3 cm bin", points: &outline }];
-            write_png(&Plot { title: &title, x_label: "spilled particles [-]", y_label: "depth under the ring [cm]", log_x: false, log_y: false, series }, &plots.join("spillage_heights.png"))?;
+            write_png(
+                &Plot { title: &title, x_label: "spilled particles [-]", y_label: "depth under the ring [cm]", log_x: false, log_y: false, series },
+                &plots.join("spillage_heights.png"),
+            )?;
         }
     }
     Ok(lines)

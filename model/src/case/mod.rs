@@ -145,7 +145,11 @@ impl Case {
             match &self.rotor {
                 None => return Err(FieldError::new("rotor", "(missing)", "a [rotor] section (rpm or omega) with a [cutter_head]")),
                 Some(r) if r.axis != [0.0, 0.0, 1.0] => {
-                    return Err(FieldError::new("rotor.axis", format!("{:?}", r.axis), "[0, 0, 1] for a cutter head (turn it the other way with a negative rpm)"))
+                    return Err(FieldError::new(
+                        "rotor.axis",
+                        format!("{:?}", r.axis),
+                        "[0, 0, 1] for a cutter head (turn it the other way with a negative rpm)",
+                    ))
                 }
                 _ => {}
             }
@@ -169,7 +173,11 @@ impl Case {
                     }
                 }
                 _ if rotor_mesh => {
-                    return Err(FieldError::new("rotor.zone", format!("{:?}", rotor.zone), "\"rotor\" (the zone made by the rotor_stator and cutter_head meshes)"))
+                    return Err(FieldError::new(
+                        "rotor.zone",
+                        format!("{:?}", rotor.zone),
+                        "\"rotor\" (the zone made by the rotor_stator and cutter_head meshes)",
+                    ))
                 }
                 _ if self.fluid.is_some() => {
                     return Err(FieldError::new("rotor", "(a rotor on a mesh without a rotor zone)", "a [rotor] only with mesh.generator = \"rotor_stator\""))
@@ -178,7 +186,9 @@ impl Case {
             }
         }
         if let Some(fluid) = &self.fluid {
-            if matches!(fluid.initial, crate::fluid::settings::InitialVelocity::SolidBody { .. }) && self.rotor.as_ref().is_none_or(|r| r.axis[0] != 0.0 || r.axis[1] != 0.0) {
+            if matches!(fluid.initial, crate::fluid::settings::InitialVelocity::SolidBody { .. })
+                && self.rotor.as_ref().is_none_or(|r| r.axis[0] != 0.0 || r.axis[1] != 0.0)
+            {
                 return Err(FieldError::new("fluid.initial.type", "\"solid_body\"", "a solid-body start only with a [rotor] turning about z"));
             }
         }

@@ -114,7 +114,11 @@ impl CutterHeadSection {
         }
         for (i, p) in self.contour.iter().enumerate() {
             if i > 0 && !(p[0] > self.contour[i - 1][0] && p[0].is_finite()) {
-                return Err(FieldError::new(key(&format!("contour.{i}")), format!("{p:?}"), format!("s > {} m (s increases from the ring to the hub)", self.contour[i - 1][0])));
+                return Err(FieldError::new(
+                    key(&format!("contour.{i}")),
+                    format!("{p:?}"),
+                    format!("s > {} m (s increases from the ring to the hub)", self.contour[i - 1][0]),
+                ));
             }
             positive(&key(&format!("contour.{i}")), p[1], "m (the contour radius R)")?;
             if !(p[2] > 0.0 && p[2] < 90.0) {
@@ -156,7 +160,11 @@ impl CutterHeadSection {
         }
         let hub_radius = self.contour.last().expect("≥ 2 points")[1];
         if hub_radius <= self.shaft_radius {
-            return Err(FieldError::new(key("contour"), format!("(hub radius {hub_radius} m)"), format!("a hub radius above shaft_radius = {} m", self.shaft_radius)));
+            return Err(FieldError::new(
+                key("contour"),
+                format!("(hub radius {hub_radius} m)"),
+                format!("a hub radius above shaft_radius = {} m", self.shaft_radius),
+            ));
         }
         positive(&key("tank.radius"), self.tank.radius, "m")?;
         positive(&key("tank.below_hub"), self.tank.below_hub, "m")?;
@@ -179,7 +187,11 @@ impl CutterHeadSection {
         }
         let cells = self.estimated_cells();
         if cells > 2.0e7 {
-            return Err(FieldError::new(key("mesh.cell_size"), self.mesh.cell_size, format!("a cell size giving at most 2·10⁷ cells (this one gives about {cells:.1e})")));
+            return Err(FieldError::new(
+                key("mesh.cell_size"),
+                self.mesh.cell_size,
+                format!("a cell size giving at most 2·10⁷ cells (this one gives about {cells:.1e})"),
+            ));
         }
         Ok(())
     }

@@ -173,7 +173,13 @@ mod tests {
     fn exit_heights_are_binned_under_the_ring() {
         let head = head();
         let exit = |z: f64, route: ExitRoute| ExitRecord { particle: 0, time: 0.0, position: [0.4, 0.0, z], velocity: [0.0; 3], diameter: 0.02, route };
-        let exits = [exit(-0.01, ExitRoute::Spilled), exit(-0.029, ExitRoute::Spilled), exit(-0.031, ExitRoute::Spilled), exit(-0.01, ExitRoute::Sucked), exit(-1.0, ExitRoute::Spilled)];
+        let exits = [
+            exit(-0.01, ExitRoute::Spilled),
+            exit(-0.029, ExitRoute::Spilled),
+            exit(-0.031, ExitRoute::Spilled),
+            exit(-0.01, ExitRoute::Sucked),
+            exit(-1.0, ExitRoute::Spilled),
+        ];
         let bins = exit_height_histogram(&head, &exits);
         assert_eq!(bins[0], (0.0, 2));
         assert_eq!(bins[1].1, 1);

@@ -103,7 +103,11 @@ impl Mesh {
             return Err(MeshError::input("blocked", spec.blocked.len(), &format!("one flag per rotor slot ({n_slots})")));
         }
         if spec.n_theta_rotor < 3 || spec.n_theta_stator < 3 || n_r < 2 || spec.stator_r.len() < 2 || n_z < 1 {
-            return Err(MeshError::input("resolution", format!("{n_r} × {} rotor, {} stator, {n_z} layers", spec.n_theta_rotor, spec.n_theta_stator), "at least 2 radial cells in the rotor and 3 around"));
+            return Err(MeshError::input(
+                "resolution",
+                format!("{n_r} × {} rotor, {} stator, {n_z} layers", spec.n_theta_rotor, spec.n_theta_stator),
+                "at least 2 radial cells in the rotor and 3 around",
+            ));
         }
         if (0..n_slots).any(|s| spec.blocked[s] && spec.ijk(s).0 == n_r - 1) {
             return Err(MeshError::input("blocked", "(a solid next to the sliding interface)", "solids at least one cell inside the interface radius"));

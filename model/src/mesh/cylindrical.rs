@@ -63,7 +63,14 @@ pub struct RotorStatorSpec {
 }
 
 /// Appends one cylindrical block's points and cells; returns its locator entry.
-pub(super) fn add_block(points: &mut Vec<Vec3>, cells: &mut Vec<[usize; 8]>, r_edges: Vec<f64>, n_theta: usize, z_edges: Vec<f64>, zone: usize) -> CylinderBlock {
+pub(super) fn add_block(
+    points: &mut Vec<Vec3>,
+    cells: &mut Vec<[usize; 8]>,
+    r_edges: Vec<f64>,
+    n_theta: usize,
+    z_edges: Vec<f64>,
+    zone: usize,
+) -> CylinderBlock {
     let (n_r, n_z) = (r_edges.len() - 1, z_edges.len() - 1);
     let first_point = points.len();
     let first_cell = cells.len();

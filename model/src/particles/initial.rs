@@ -21,7 +21,8 @@ pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
     for (g, group) in section.groups.iter().enumerate() {
         let key = format!("particles.groups.{g}");
         if let GroupSection::HeadLattice { .. } = group {
-            let head = case.cutter_head.as_ref().ok_or_else(|| FieldError::new(format!("{key}.placement"), "\"head_lattice\"", "a case with a [cutter_head]"))?;
+            let head =
+                case.cutter_head.as_ref().ok_or_else(|| FieldError::new(format!("{key}.placement"), "\"head_lattice\"", "a case with a [cutter_head]"))?;
             let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity());
             add_head_lattice(section, group, &key, &crate::cutter_head::CutterHead::new(head), omega, &mut state)?;
         } else {
@@ -60,7 +61,13 @@ pub fn new_particle(section: &ParticlesSection, state: &mut ParticleState, mater
 /// A random centre in `region` for a sphere of `diameter` lying fully inside it, overlapping
 /// none of `existing` and accepted by `clear(centre, radius)`, or `None` after
 /// [`PLACEMENT_ATTEMPTS`] tries.
-pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Particle], random: &mut SplitMix64, clear: impl Fn(&Vec3, f64) -> bool) -> Option<Vec3> {
+pub fn place_without_overlap(
+    region: &BoxRegion,
+    diameter: f64,
+    existing: &[Particle],
+    random: &mut SplitMix64,
+    clear: impl Fn(&Vec3, f64) -> bool,
+) -> Option<Vec3> {
     let r = 0.5 * diameter;
     if (0..3).any(|k| region.max[k] - region.min[k] < diameter) {
         return None;
@@ -80,7 +87,14 @@ pub fn place_without_overlap(region: &BoxRegion, diameter: f64, existing: &[Part
 
 /// The sites of a `head_lattice` group that lie inside the hull, in the sector and clear of the
 /// head's solids, in z, y, x order.
-fn add_head_lattice(section: &ParticlesSection, group: &GroupSection, key: &str, head: &crate::cutter_head::CutterHead, omega: f64, state: &mut ParticleState) -> Result<(), FieldError> {
+fn add_head_lattice(
+    section: &ParticlesSection,
+    group: &GroupSection,
+    key: &str,
+    head: &crate::cutter_head::CutterHead,
+    omega: f64,
+    state: &mut ParticleState,
+) -> Result<(), FieldError> {
     let GroupSection::HeadLattice { material, diameter, spacing, sector, z, co_rotating, seed } = group else { unreachable!("called for head lattices") };
     let material = section.material_index(material).ok_or_else(|| FieldError::new(format!("{key}.material"), material, "a known material"))?;
     let mut random = SplitMix64::new(*seed);
