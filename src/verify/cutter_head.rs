@@ -37,6 +37,7 @@ pub fn mean_fluxes(case: &Case) -> Result<(f64, f64)> {
     let mut state = State::default();
     let fluid = FastFluid::new(case, super::fluid::build_mesh(case)?, &mut state)?;
     let mut run = Coupled::fluid_only(case, state, fluid)?;
+    let started = std::time::Instant::now();
     let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity()).abs();
     let end = case.time.end_time.ok_or_else(|| anyhow!("{}: the check needs time.end_time", case.path.display()))?;
     let from = end - std::f64::consts::TAU / omega;
@@ -55,6 +56,14 @@ pub fn mean_fluxes(case: &Case) -> Result<(f64, f64)> {
     if weight == 0.0 {
         bail!("{}: the run is shorter than a revolution", case.path.display());
     }
+    let revolutions = end * omega / std::f64::consts::TAU;
+    let cells = run.mesh().map_or(0, |m| m.n_cells());
+    eprintln!(
+        "{}: {cells} cells, {} steps, {:.1} s per revolution",
+        case.case.name,
+        run.state().step,
+        started.elapsed().as_secs_f64() / revolutions
+    );
     Ok((outflow / weight, net / weight))
 }
 

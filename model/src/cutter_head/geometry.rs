@@ -225,7 +225,7 @@ impl CutterHead {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     pub(crate) fn head() -> CutterHead {

@@ -367,15 +367,16 @@ mod tests {
 
     #[test]
     fn a_particle_case_gets_the_head_walls_turning_with_the_rotor() {
-        let text = case_text()
-            + "\n[[particles.materials]]\nname = \"steel\"\ndensity = 7850.0\nyoungs_modulus = 200e9\npoisson_ratio = 0.27\nrestitution = 0.97\nfriction = 0.15\n";
+        // the shipped case: rock (material 0) between the blades, the head of steel (material 1)
+        let text = case_text();
         let case = crate::case::Case::from_toml(&text, std::path::Path::new("cutter_head.toml")).unwrap();
         let state = crate::walls::build(&case, std::path::Path::new(".")).unwrap();
         let names: Vec<&str> = state.walls.iter().map(|w| w.name.as_str()).collect();
         assert_eq!(names, ["blade_1", "blade_2", "blade_3", "blade_4", "blade_5", "blade_6", "hub", "ring", "pipe", "shaft"]);
-        assert!(state.walls.iter().all(|w| w.motion == WallMotion::Rotor && w.material == 0));
-        // without [particles] (the shipped fluid-only run) there are no walls
-        let fluid_only = crate::case::Case::from_toml(&case_text(), std::path::Path::new("cutter_head.toml")).unwrap();
+        assert!(state.walls.iter().all(|w| w.motion == WallMotion::Rotor && w.material == 1));
+        // without [particles] (a fluid-only run of the same head) there are no walls
+        let fluid_only = text[..text.find("[coupling]").unwrap()].to_string();
+        let fluid_only = crate::case::Case::from_toml(&fluid_only, std::path::Path::new("cutter_head.toml")).unwrap();
         assert!(crate::walls::build(&fluid_only, std::path::Path::new(".")).unwrap().walls.is_empty());
         // a material that is not a [[particles.materials]] entry is an error naming the key
         let wrong = text.replace("material = \"steel\"", "material = \"brass\"");

@@ -209,8 +209,14 @@ end = 0.3125
         let mut state = crate::particles::initial_state(&case).unwrap();
         // (binary-exact times) [0, 0.125): on for 0.0625 s → 6.25 owed, 6 placed; [0.125, 0.25):
         // 12.5 + 0.25 → 12; [0.25, 0.375): 6.25 + 0.75 → 7; [0.375, 0.5): off. 25 = rate × 0.25 s.
-        let created: Vec<u64> = [0.0, 0.125, 0.25, 0.375].iter().map(|&t| feed(&section, &mut state, t, 0.125)).collect();
+        let created: Vec<u64> = [0.0, 0.125, 0.25, 0.375].iter().map(|&t| feed(&section, &mut state, t, 0.125, |_, _| true)).collect();
         assert_eq!(created, vec![6, 12, 7, 0]);
         assert_eq!(state.counts.created, 25);
+        // walls that leave only x < 0.5 clear: every new particle lands there, none is lost
+        let mut state = crate::particles::initial_state(&case).unwrap();
+        let clear = |p: &Vec3, r: f64| p.x + r < 0.5;
+        let created: u64 = [0.0, 0.125, 0.25, 0.375].iter().map(|&t| feed(&section, &mut state, t, 0.125, clear)).sum();
+        assert_eq!(created, 25);
+        assert!(state.particles.iter().all(|p| clear(&p.position, p.radius())));
     }
 }
