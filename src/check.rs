@@ -195,6 +195,11 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
     match (case.time.dt, case.time.steps, case.time.end_time) {
         (Some(dt), Some(n), _) => println!("time         {n} steps of {dt:e} s = {:.4e} s", dt * n as f64),
         (Some(dt), None, Some(t)) => println!("time         {} steps of {dt:e} s to t = {t:e} s", (t / dt).ceil()),
+        (None, _, Some(t)) if case.time.revolutions.is_some() => println!(
+            "time         {} revolutions = {t:.4e} s, Δt from max Courant number {}",
+            case.time.revolutions.unwrap_or(0.0),
+            case.time.max_courant.unwrap_or(f64::NAN)
+        ),
         (None, _, _) => println!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN)),
         _ => {}
     }

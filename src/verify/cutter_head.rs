@@ -39,7 +39,7 @@ pub fn mean_fluxes(case: &Case) -> Result<(f64, f64)> {
     let mut run = Coupled::fluid_only(case, state, fluid)?;
     let started = std::time::Instant::now();
     let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity()).abs();
-    let end = case.time.end_time.ok_or_else(|| anyhow!("{}: the check needs time.end_time", case.path.display()))?;
+    let end = case.time.end_time.ok_or_else(|| anyhow!("{}: the check needs time.revolutions or time.end_time", case.path.display()))?;
     let from = end - std::f64::consts::TAU / omega;
     let (mut outflow, mut net, mut weight) = (0.0, 0.0, 0.0);
     while !spillage_model::step::reached_end_time(run.state().time, end) {
@@ -58,12 +58,7 @@ pub fn mean_fluxes(case: &Case) -> Result<(f64, f64)> {
     }
     let revolutions = end * omega / std::f64::consts::TAU;
     let cells = run.mesh().map_or(0, |m| m.n_cells());
-    eprintln!(
-        "{}: {cells} cells, {} steps, {:.1} s per revolution",
-        case.case.name,
-        run.state().step,
-        started.elapsed().as_secs_f64() / revolutions
-    );
+    eprintln!("{}: {cells} cells, {} steps, {:.1} s per revolution", case.case.name, run.state().step, started.elapsed().as_secs_f64() / revolutions);
     Ok((outflow / weight, net / weight))
 }
 
@@ -89,11 +84,10 @@ fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         let mut previous = f64::NEG_INFINITY;
         let mut decreases = 0.0;
         for rpm in [30.0, 45.0, 60.0, 75.0, 90.0] {
+            // `time.revolutions` runs the same number of revolutions at every speed
             let c = with(case, |c| {
                 let rotor = c.rotor.as_mut().expect("validated");
                 (rotor.rpm, rotor.omega) = (Some(rpm), None);
-                // the same number of revolutions at every speed
-                c.time.end_time = Some(case.time.end_time.unwrap_or(1.0) * 60.0 / rpm);
             })?;
             let (q, _) = mean_fluxes(&c)?;
             eprintln!("{name}: {rpm} rpm: out-flowing flux {q:.5} m³/s");

@@ -96,6 +96,10 @@ impl Case {
     /// Validates the case and derives what follows from it (a cutter head's floor and suction
     /// conditions from its discharge and mesh). Call it again after editing a loaded case.
     pub fn finish(&mut self) -> Result<(), FieldError> {
+        if self.time.revolutions.is_some() {
+            // derived from the revolutions below (the rotor may have been edited)
+            self.time.end_time = None;
+        }
         if self.derived_conditions {
             for p in crate::cutter_head::fluid_mesh::FLOW_PATCHES {
                 self.boundary.remove(p);
@@ -103,6 +107,13 @@ impl Case {
             self.derived_conditions = false;
         }
         self.validate()?;
+        if let Some(n) = self.time.revolutions {
+            let omega = self.rotor.as_ref().map_or(0.0, |r| r.angular_velocity().abs());
+            if omega == 0.0 {
+                return Err(FieldError::new("time.revolutions", n, "revolutions only with a turning [rotor]"));
+            }
+            self.time.end_time = Some(n * std::f64::consts::TAU / omega);
+        }
         self.add_suction_condition()
     }
 

@@ -54,6 +54,9 @@ pub struct TimeControl {
     pub end_time: Option<f64>,
     /// Number of steps.
     pub steps: Option<u64>,
+    /// Revolutions of the `[rotor]` to run (sets `end_time` = revolutions · 2π/|ω|, so a
+    /// sweep over rpm runs the same number of revolutions at every speed).
+    pub revolutions: Option<f64>,
     /// Write fields every this many steps (0 = only at the end).
     #[serde(default)]
     pub write_every: u64,
@@ -76,6 +79,13 @@ impl TimeControl {
                 return Err(FieldError::new("time.max_courant", format!("(with time.dt = {dt})"), "either time.dt or time.max_courant, not both"))
             }
             (None, None) => return Err(FieldError::new("time", "(neither dt nor max_courant)", "`dt = <seconds>` or `max_courant = <number>`")),
+        }
+        if let Some(n) = self.revolutions {
+            positive("time.revolutions", n, "")?;
+            return match (self.end_time, self.steps) {
+                (None, None) => Ok(()),
+                _ => Err(FieldError::new("time.revolutions", n, "either time.revolutions, time.end_time or time.steps, not two of them")),
+            };
         }
         match (self.end_time, self.steps) {
             (Some(t), None) => positive("time.end_time", t, "s"),

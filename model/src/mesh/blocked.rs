@@ -11,9 +11,9 @@
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
-use super::assemble::{assemble, HexCells, ZoneInput};
+use super::assemble::{assemble, HexCells};
 use super::cylindrical::{add_block, LOCAL_INNER, LOCAL_OUTER, LOCAL_Z_MAX, LOCAL_Z_MIN};
-use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind, SlidingInterface, Vec3, ZoneRotation};
+use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind, SlidingInterface};
 
 /// Names of the patches of [`Mesh::rotor_stator_blocked`], in patch order.
 pub const BLOCKED_ROTOR_STATOR_PATCHES: [&str; 8] = ["shaft", "tank", "floor", "top", "interface_rotor", "interface_stator", "head", "suction"];
@@ -171,14 +171,7 @@ impl Mesh {
             cells,
             patches,
             periodic: Vec::new(),
-            zones: vec![
-                ZoneInput {
-                    name: "rotor".into(),
-                    cells: (0..n_rotor_cells).collect(),
-                    rotation: Some(ZoneRotation { axis: Vec3::z(), origin: Vec3::zeros(), angle: 0.0 }),
-                },
-                ZoneInput { name: "stator".into(), cells: (n_rotor_cells..n_cells).collect(), rotation: None },
-            ],
+            zones: super::cylindrical::rotor_stator_zones(n_rotor_cells, n_cells),
             locator: Locator::Cylindrical { blocks: vec![rotor, stator] },
         };
         let mut mesh = assemble(input, |cell, local| {

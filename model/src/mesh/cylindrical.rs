@@ -199,14 +199,7 @@ impl Mesh {
             cells,
             patches,
             periodic: Vec::new(),
-            zones: vec![
-                ZoneInput {
-                    name: "rotor".into(),
-                    cells: (0..n_rotor_cells).collect(),
-                    rotation: Some(ZoneRotation { axis: Vec3::z(), origin: Vec3::zeros(), angle: 0.0 }),
-                },
-                ZoneInput { name: "stator".into(), cells: (n_rotor_cells..n_cells).collect(), rotation: None },
-            ],
+            zones: rotor_stator_zones(n_rotor_cells, n_cells),
             locator: Locator::Cylindrical { blocks: vec![rotor, stator] },
         };
         let mut mesh = assemble(input, |cell, local| {
@@ -239,6 +232,19 @@ impl Mesh {
         });
         Ok(mesh)
     }
+}
+
+/// Zone 0 `rotor` (cells below `n_rotor_cells`, turning about z through the origin) and zone 1
+/// `stator` (the rest).
+pub(super) fn rotor_stator_zones(n_rotor_cells: usize, n_cells: usize) -> Vec<ZoneInput> {
+    vec![
+        ZoneInput {
+            name: "rotor".into(),
+            cells: (0..n_rotor_cells).collect(),
+            rotation: Some(ZoneRotation { axis: Vec3::z(), origin: Vec3::zeros(), angle: 0.0 }),
+        },
+        ZoneInput { name: "stator".into(), cells: (n_rotor_cells..n_cells).collect(), rotation: None },
+    ]
 }
 
 /// Faces of an interface patch ordered by (z layer, θ index), from their owners' indices.

@@ -287,26 +287,12 @@ impl GroupSection {
             GroupSection::Lattice { diameter, region, spacing, velocity, .. } => {
                 diameter.validate(&format!("{key}.diameter"))?;
                 region.validate(&format!("{key}.region"))?;
-                positive(&format!("{key}.spacing"), *spacing, "m")?;
-                if *spacing < diameter.largest() {
-                    return Err(FieldError::new(
-                        format!("{key}.spacing"),
-                        spacing,
-                        format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest()),
-                    ));
-                }
+                lattice_spacing(key, *spacing, diameter)?;
                 finite_vector(&format!("{key}.velocity"), *velocity)
             }
             GroupSection::HeadLattice { diameter, spacing, sector, z, .. } => {
                 diameter.validate(&format!("{key}.diameter"))?;
-                positive(&format!("{key}.spacing"), *spacing, "m")?;
-                if *spacing < diameter.largest() {
-                    return Err(FieldError::new(
-                        format!("{key}.spacing"),
-                        spacing,
-                        format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest()),
-                    ));
-                }
+                lattice_spacing(key, *spacing, diameter)?;
                 if !(sector.iter().all(|a| a.is_finite()) && sector[1] > sector[0] && sector[1] - sector[0] <= 360.0) {
                     return Err(FieldError::new(format!("{key}.sector"), format!("{sector:?}"), "[from, to] in degrees with from < to ≤ from + 360"));
                 }
@@ -325,6 +311,19 @@ impl GroupSection {
             }
         }
     }
+}
+
+/// A lattice spacing: positive and at least the largest diameter (no initial overlap).
+fn lattice_spacing(key: &str, spacing: f64, diameter: &Diameter) -> Result<(), FieldError> {
+    positive(&format!("{key}.spacing"), spacing, "m")?;
+    if spacing < diameter.largest() {
+        return Err(FieldError::new(
+            format!("{key}.spacing"),
+            spacing,
+            format!("a spacing ≥ the largest diameter {} m (no initial overlap)", diameter.largest()),
+        ));
+    }
+    Ok(())
 }
 
 /// `[[particles.feed]]`: particles created at `rate` per second at random non-overlapping
