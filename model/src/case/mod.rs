@@ -60,6 +60,9 @@ pub struct Case {
     /// `boundary` ([`Case::finish`]).
     #[serde(skip)]
     derived_conditions: bool,
+    /// Whether `time.end_time` was derived from `time.revolutions` ([`Case::finish`]).
+    #[serde(skip)]
+    derived_end_time: bool,
 }
 
 impl Case {
@@ -96,9 +99,10 @@ impl Case {
     /// Validates the case and derives what follows from it (a cutter head's floor and suction
     /// conditions from its discharge and mesh). Call it again after editing a loaded case.
     pub fn finish(&mut self) -> Result<(), FieldError> {
-        if self.time.revolutions.is_some() {
-            // derived from the revolutions below (the rotor may have been edited)
+        if self.derived_end_time {
+            // derived from the revolutions below again (the rotor may have been edited)
             self.time.end_time = None;
+            self.derived_end_time = false;
         }
         if self.derived_conditions {
             for p in crate::cutter_head::fluid_mesh::FLOW_PATCHES {
@@ -113,6 +117,7 @@ impl Case {
                 return Err(FieldError::new("time.revolutions", n, "revolutions only with a turning [rotor]"));
             }
             self.time.end_time = Some(n * std::f64::consts::TAU / omega);
+            self.derived_end_time = true;
         }
         self.add_suction_condition()
     }
@@ -131,7 +136,8 @@ impl Case {
         Ok(())
     }
 
-    /// Range and consistency checks across sections.
+    /// Range and consistency checks across sections, of a case before [`Case::finish`] derives
+    /// its end time and conditions (after editing a loaded case, call `finish`).
     pub fn validate(&self) -> Result<(), FieldError> {
         if self.case.name.trim().is_empty() {
             return Err(FieldError::new("case.name", "\"\"", "a non-empty name"));
@@ -258,5 +264,49 @@ impl Case {
             wear.validate(&names)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn head_case(edit: impl Fn(String) -> String) -> Result<Case, CaseError> {
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../cases/cutter_head.toml")).unwrap();
+        Case::from_toml(&edit(text), Path::new("cutter_head.toml"))
+    }
+
+    #[test]
+    fn revolutions_set_the_end_time_from_the_rotor_and_follow_an_edited_speed() {
+        let mut case = head_case(|t| t.replace("revolutions = 1", "revolutions = 3")).unwrap();
+        assert_eq!(case.time.end_time, Some(3.0 * std::f64::consts::TAU / (60.0 * std::f64::consts::TAU / 60.0)));
+        case.rotor.as_mut().unwrap().rpm = Some(30.0);
+        case.finish().unwrap();
+        assert!((case.time.end_time.unwrap() - 6.0).abs() < 1e-12, "{:?}", case.time.end_time);
+        let both = head_case(|t| t.replace("revolutions = 1", "revolutions = 1\nend_time = 2.0")).unwrap_err();
+        assert!(both.to_string().contains("time.revolutions"), "{both}");
+    }
+
+    #[test]
+    fn a_head_sets_its_floor_and_suction_and_refuses_them_in_the_file() {
+        let case = head_case(|t| t).unwrap();
+        assert!(matches!(case.boundary["floor"], BoundaryCondition::VelocityInlet { velocity } if velocity[2] > 0.0));
+        assert!(matches!(case.boundary["suction"], BoundaryCondition::PressureOutlet { .. }));
+        let mut again = case.clone();
+        again.cutter_head.as_mut().unwrap().suction_discharge = 0.24;
+        again.finish().unwrap();
+        let speed = |c: &Case| match c.boundary["floor"] {
+            BoundaryCondition::VelocityInlet { velocity } => velocity[2],
+            _ => unreachable!(),
+        };
+        // the floor's inflow follows the discharge (same area)
+        assert!((speed(&again) - 2.0 * speed(&case)).abs() < 1e-15);
+        let error = head_case(|t| t + "\n[boundary.floor]\ntype = \"wall\"\n").unwrap_err();
+        assert!(error.to_string().contains("boundary.floor"), "{error}");
+        let error = head_case(|t| {
+            t.replace("[cutter_head]", "[mesh]\ngenerator = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [1.0, 1.0, 1.0]\ncells = [2, 2, 2]\n\n[cutter_head]")
+        })
+        .unwrap_err();
+        assert!(error.to_string().contains("mesh"), "{error}");
     }
 }
