@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use spillage_model::case::Case;
-use spillage_model::cutter_head::spillage::{exit_height_histogram, SpillageCounts, EXIT_BIN};
+use spillage_model::cutter_head::spillage::{exit_height_histogram, steady_spillage, SpillageCounts, EXIT_BIN};
 use spillage_model::cutter_head::CutterHead;
 use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::output::series::read_series;
@@ -76,6 +76,19 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             counts.spilled,
             particles.particles.len()
         ));
+        if case.particles.as_ref().is_some_and(|p| !p.feed.is_empty()) {
+            // the feed's steady state: the second half of the run
+            match steady_spillage(&particles.exits, 0.5 * state.time) {
+                Some(s) => lines.push(format!(
+                    "steady spillage   {:.1} % of the {} particles that left in the second half of the run (95 % interval {:.1}–{:.1} %)",
+                    100.0 * s.fraction,
+                    s.exits,
+                    100.0 * s.low,
+                    100.0 * s.high
+                )),
+                None => lines.push("steady spillage   no particle left in the second half of the run: run longer".to_string()),
+            }
+        }
         let bins = exit_height_histogram(&head, &particles.exits);
         let mut csv = String::from("bin_top_z_m,bin_bottom_z_m,spilled\n");
         for (top, n) in &bins {
