@@ -236,14 +236,15 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         if let Some(phase) = self.particles.as_mut() {
             let section = self.particle_section.as_ref().expect("a particle phase has a [particles] section");
             let particles = self.state.particles.as_mut().expect("checked in new");
-            // a head's blades turn: a new particle must be clear of them at both ends of the step
+            // a head's blades turn: a new particle must be inside the contour (or it would count
+            // as spilled at once) and clear of the blades at both ends of the step
             let head = self.head.as_ref().map(|(h, _)| h);
             let angles = ctx.rotor.map(|r| [r.angle - r.omega * dt, r.angle]);
             bookkeeping::feed(section, particles, ctx.time, dt, |p, radius| match (head, angles) {
-                (Some(head), Some(angles)) => angles.iter().all(|a| {
-                    let (r, theta) = (p.x.hypot(p.y), p.y.atan2(p.x) - a);
-                    head.sphere_is_clear(r, theta, p.z, radius)
-                }),
+                (Some(head), Some(angles)) => {
+                    let r = p.x.hypot(p.y);
+                    head.inside_hull(r + radius, p.z) && angles.iter().all(|a| head.sphere_is_clear(r, p.y.atan2(p.x) - a, p.z, radius))
+                }
                 _ => true,
             });
             self.samples.clear();
