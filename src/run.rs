@@ -133,7 +133,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     );
     summary.write(&out.join("summary.json"))?;
     if case.output.plots {
-        draw_plots(&out)?;
+        draw_plots(&out, &case.case.name)?;
     }
     for line in crate::head_report::report(&case, state, &out)? {
         eprintln!("{line}");
@@ -259,7 +259,7 @@ fn coupling_frame(solver: &dyn Solver) -> CouplingFrame {
 }
 
 /// One PNG per series column against time, in `plots/`.
-fn draw_plots(out: &Path) -> anyhow::Result<()> {
+fn draw_plots(out: &Path, case_name: &str) -> anyhow::Result<()> {
     let path = out.join("series.csv");
     if !path.exists() {
         return Ok(());
@@ -267,14 +267,34 @@ fn draw_plots(out: &Path) -> anyhow::Result<()> {
     let table = read_series(&path)?;
     let dir = out.join("plots");
     std::fs::create_dir_all(&dir)?;
-    for column in table.columns.iter().filter(|c| !matches!(c.as_str(), "step" | "time" | "dt")) {
+    // the rotor angle is a straight line in time: not worth a plot
+    for column in table.columns.iter().filter(|c| !matches!(c.as_str(), "step" | "time" | "dt" | "rotor_angle")) {
         let Some(points) = table.pairs("time", column) else { continue };
         if points.is_empty() {
             continue;
         }
-        let plot =
-            Plot { title: column, x_label: "time [s]", y_label: column, log_x: false, log_y: false, series: vec![Series { label: column, points: &points }] };
+        let (unit, residual) = column_unit(column);
+        // residuals and errors span decades: a log axis, when every value is positive
+        let log_y = residual && points.iter().all(|p| p.1 > 0.0);
+        let title = format!("{case_name}: {column}");
+        let y_label = if unit.is_empty() { column.clone() } else { format!("{column} [{unit}]") };
+        let plot = Plot { title: &title, x_label: "time [s]", y_label: &y_label, log_x: false, log_y, series: vec![Series { label: column, points: &points }] };
         write_png(&plot, &dir.join(format!("{column}.png")))?;
     }
     Ok(())
+}
+
+/// The unit of a series column ("" when dimensionless or a count) and whether it is a residual or
+/// an error (drawn on a log axis).
+fn column_unit(column: &str) -> (&'static str, bool) {
+    match column {
+        // the fluid's ½ Σ |u|² V: energy per unit density
+        "kinetic_energy" => ("J/(kg/m³) = m⁵/s²", false),
+        "particle_kinetic_energy" => ("J", false),
+        "p_initial_residual" | "continuity_local" | "continuity_cell_max" | "interface_imbalance" => ("", true),
+        "continuity_global" | "continuity_cumulative" | "particle_volume" => ("m³", false),
+        "hull_outflow" | "hull_net_flux" | "suction_flux" | "hull_outflow_top" => ("m³/s", false),
+        "settling_velocity" => ("m/s", false),
+        _ => ("", false),
+    }
 }

@@ -219,8 +219,14 @@ where
     for (index, series) in plot.series.iter().enumerate() {
         let colour = PALETTE[index % PALETTE.len()];
         let line_style = colour.stroke_width(2);
+        // one path per segment: plotters joins a thick polyline with miters, which shoot far out
+        // of the frame where a spiky series turns back sharply (issue 15)
+        let segments: Vec<PathElement<(f64, f64)>> = match series.points {
+            [single] => vec![PathElement::new(vec![*single, *single], line_style)],
+            points => points.windows(2).map(|w| PathElement::new(vec![w[0], w[1]], line_style)).collect(),
+        };
         chart
-            .draw_series(LineSeries::new(series.points.iter().copied(), line_style))
+            .draw_series(segments)
             .map_err(|e| error(&e))?
             .label(series.label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3)));
@@ -338,5 +344,50 @@ mod tests {
         assert_eq!(tick_text(-0.0125, 0.0), "-0.0125");
         assert_eq!(tick_text(1e-6, 0.0), "1e-6");
         assert_eq!(tick_text(1e-17, 0.0), "1e-17");
+    }
+}
+
+#[cfg(test)]
+mod frame_tests {
+    use super::*;
+
+    /// Draws `plot` into an RGB buffer (what `write_png` encodes).
+    fn render(plot: &Plot) -> Vec<u8> {
+        let x = axis_range(Path::new("t.png"), plot, Axis::X).unwrap();
+        let y = axis_range(Path::new("t.png"), plot, Axis::Y).unwrap();
+        register_embedded_font().unwrap();
+        let mut buffer = vec![0u8; (WIDTH * HEIGHT * 3) as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut buffer, (WIDTH, HEIGHT)).into_drawing_area();
+            draw(&root, plot, (0.01 * (x.1 - x.0), 0.01 * (y.1 - y.0)), x.0..x.1, y.0..y.1).unwrap();
+            root.present().unwrap();
+        }
+        buffer
+    }
+
+    /// A spiky series (a DEM overlap ratio: mostly 0, single-step peaks) stays inside its frame:
+    /// no pixel of the series' colour in the caption band at the top or below the x axis labels.
+    #[test]
+    fn spiky_series_stay_inside_the_frame() {
+        let points: Vec<(f64, f64)> = (0..3000).map(|i| (i as f64 * 1e-3, if i % 7 == 3 { 0.161 } else { 0.0 })).collect();
+        let plot = Plot {
+            title: "spikes",
+            x_label: "time [s]",
+            y_label: "ratio",
+            log_x: false,
+            log_y: false,
+            series: vec![Series { label: "spikes", points: &points }],
+        };
+        let buffer = render(&plot);
+        let colour = PALETTE[0];
+        let is_series = |row: u32| {
+            (0..WIDTH).any(|col| {
+                let i = ((row * WIDTH + col) * 3) as usize;
+                (buffer[i], buffer[i + 1], buffer[i + 2]) == (colour.0, colour.1, colour.2)
+            })
+        };
+        // the caption and margin take the top ~60 rows, the x labels the bottom ~80
+        let outside: Vec<u32> = (0..50).chain(HEIGHT - 50..HEIGHT).filter(|&r| is_series(r)).collect();
+        assert!(outside.is_empty(), "series pixels outside the frame in rows {:?}…", &outside[..outside.len().min(10)]);
     }
 }
