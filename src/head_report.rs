@@ -92,7 +92,8 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         let bins = exit_height_histogram(&head, &particles.exits);
         let mut csv = String::from("bin_top_z_m,bin_bottom_z_m,spilled\n");
         for (top, n) in &bins {
-            writeln!(csv, "{top},{},{n}", top - EXIT_BIN)?;
+            // + 0.0 turns the first bin's −0 into 0
+            writeln!(csv, "{:.3},{:.3},{n}", top + 0.0, top - EXIT_BIN)?;
         }
         std::fs::write(out.join("spillage_heights.csv"), csv)?;
         if counts.spilled > 0 {

@@ -103,7 +103,7 @@ fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         for h in sizes {
             let c = with(case, |c| c.cutter_head.as_mut().expect("validated").mesh.cell_size = h)?;
             let (q, _) = mean_fluxes(&c)?;
-            eprintln!("{name}: cell size {h} m: out-flowing flux {q:.5} m³/s");
+            eprintln!("{name}: cell size {h:.4} m: out-flowing flux {q:.5} m³/s");
             fluxes.push(q);
         }
         let change = (fluxes[2] - fluxes[1]).abs() / fluxes[2];

@@ -315,8 +315,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 ]);
             }
             report.values.push(("impacts", particles.impacts.len() as f64));
-            if let Some(down) = self.down.filter(|_| !particles.particles.is_empty()) {
-                report.values.push(("settling_velocity", median(particles.particles.iter().map(|p| p.velocity.dot(&down)).collect())));
+            // every step reports the same columns (series.csv has one header): 0 while a feed
+            // has not placed any particle yet
+            if let Some(down) = self.down {
+                let settling = if particles.particles.is_empty() { 0.0 } else { median(particles.particles.iter().map(|p| p.velocity.dot(&down)).collect()) };
+                report.values.push(("settling_velocity", settling));
             }
         }
 
