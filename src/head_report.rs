@@ -103,12 +103,12 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
                 100.0 * top_share,
                 100.0 * EXIT_BIN
             ));
-            // a bar outline: count against the bin's depth under the ring
-            let outline: Vec<(f64, f64)> = bins.iter().flat_map(|(top, n)| [(*n as f64, -top * 100.0), (*n as f64, (EXIT_BIN - top) * 100.0)]).collect();
+            // a bar outline: count against the bin's height, the ring at the top (z = 0)
+            let outline: Vec<(f64, f64)> = bins.iter().flat_map(|(top, n)| [(*n as f64, top * 100.0), (*n as f64, (top - EXIT_BIN) * 100.0)]).collect();
             let title = format!("{}: where the spilled particles left (Fig. 8.8)", case.case.name);
             let series = vec![Series { label: "spilled particles per 3 cm bin", points: &outline }];
             write_png(
-                &Plot { title: &title, x_label: "spilled particles [-]", y_label: "depth under the ring [cm]", log_x: false, log_y: false, series },
+                &Plot { title: &title, x_label: "spilled particles [-]", y_label: "height z [cm] (ring 0, hub −H)", log_x: false, log_y: false, series },
                 &plots.join("spillage_heights.png"),
             )?;
         }
