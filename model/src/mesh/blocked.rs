@@ -9,11 +9,10 @@
 //! `stator` (1). Blocked slots must not touch the sliding interface.
 
 use std::collections::VecDeque;
-use std::f64::consts::TAU;
 
 use super::assemble::{assemble, HexCells};
 use super::cylindrical::{add_block, LOCAL_INNER, LOCAL_OUTER, LOCAL_Z_MAX, LOCAL_Z_MIN};
-use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind, SlidingInterface};
+use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind};
 
 /// Names of the patches of [`Mesh::rotor_stator_blocked`], in patch order.
 pub const BLOCKED_ROTOR_STATOR_PATCHES: [&str; 8] = ["shaft", "tank", "floor", "top", "interface_rotor", "interface_stator", "head", "suction"];
@@ -208,20 +207,9 @@ impl Mesh {
         };
         let rotor_faces = super::cylindrical::interface_faces_by(&mesh, "interface_rotor", spec.n_theta_rotor, rotor_jk)?;
         let stator_faces = super::cylindrical::interface_faces_by(&mesh, "interface_stator", spec.n_theta_stator, stator_jk)?;
-        let theta_edges = |n: usize| (0..=n).map(|j| TAU * j as f64 / n as f64).collect();
-        mesh.interfaces.push(SlidingInterface {
-            name: "interface".into(),
-            rotor_zone: 0,
-            stator_zone: 1,
-            radius: *spec.rotor_r.last().expect("≥ 2 edges"),
-            z_edges: spec.z_edges.clone(),
-            n_theta_rotor: spec.n_theta_rotor,
-            n_theta_stator: spec.n_theta_stator,
-            rotor_theta_edges: theta_edges(spec.n_theta_rotor),
-            stator_theta_edges: theta_edges(spec.n_theta_stator),
-            rotor_faces,
-            stator_faces,
-        });
+        let radius = *spec.rotor_r.last().expect("≥ 2 edges");
+        let n_theta = [spec.n_theta_rotor, spec.n_theta_stator];
+        mesh.interfaces.push(super::cylindrical::cylinder_interface(radius, spec.z_edges.clone(), n_theta, rotor_faces, stator_faces));
         Ok(mesh)
     }
 }

@@ -216,21 +216,27 @@ impl Mesh {
         })?;
         let rotor_faces = interface_faces(&mesh, "interface_rotor", 0, spec.n_r_rotor, spec.n_theta_rotor)?;
         let stator_faces = interface_faces(&mesh, "interface_stator", n_rotor_cells, spec.n_r_stator, spec.n_theta_stator)?;
-        let theta_edges = |n: usize| (0..=n).map(|j| TAU * j as f64 / n as f64).collect();
-        mesh.interfaces.push(SlidingInterface {
-            name: "interface".into(),
-            rotor_zone: 0,
-            stator_zone: 1,
-            radius: spec.r_interface,
-            z_edges,
-            n_theta_rotor: spec.n_theta_rotor,
-            n_theta_stator: spec.n_theta_stator,
-            rotor_theta_edges: theta_edges(spec.n_theta_rotor),
-            stator_theta_edges: theta_edges(spec.n_theta_stator),
-            rotor_faces,
-            stator_faces,
-        });
+        mesh.interfaces.push(cylinder_interface(spec.r_interface, z_edges, [spec.n_theta_rotor, spec.n_theta_stator], rotor_faces, stator_faces));
         Ok(mesh)
+    }
+}
+
+/// The sliding interface between zone 0 (rotor) and zone 1 (stator) on the cylinder of `radius`,
+/// with `n_theta` = [rotor, stator] uniform θ divisions and faces ordered by (z layer, θ index).
+pub(super) fn cylinder_interface(radius: f64, z_edges: Vec<f64>, n_theta: [usize; 2], rotor_faces: Vec<usize>, stator_faces: Vec<usize>) -> SlidingInterface {
+    let theta_edges = |n: usize| (0..=n).map(|j| TAU * j as f64 / n as f64).collect();
+    SlidingInterface {
+        name: "interface".into(),
+        rotor_zone: 0,
+        stator_zone: 1,
+        radius,
+        z_edges,
+        n_theta_rotor: n_theta[0],
+        n_theta_stator: n_theta[1],
+        rotor_theta_edges: theta_edges(n_theta[0]),
+        stator_theta_edges: theta_edges(n_theta[1]),
+        rotor_faces,
+        stator_faces,
     }
 }
 
