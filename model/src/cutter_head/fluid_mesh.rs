@@ -165,6 +165,20 @@ mod tests {
     }
 
     #[test]
+    fn an_axial_head_sucks_through_the_whole_inner_ring_area() {
+        // the axial head of §4.1 (a): no back plate, the pipe as wide as the ring's inner radius
+        let mut section = section(0.04);
+        section.suction = crate::cutter_head::Suction::Axial;
+        let mesh = build(&section).unwrap();
+        let suction = mesh.patch("suction").unwrap();
+        let widest = suction.faces().map(|f| mesh.face_centres[f].x.hypot(mesh.face_centres[f].y)).fold(0.0, f64::max);
+        // the outlet reaches into the last open cell inside the pipe wall: within a cell of R_i
+        assert!(widest < section.ring_inner_radius && widest > section.ring_inner_radius - 2.0 * section.mesh.cell_size, "{widest}");
+        let mouth = build(&super::tests::section(0.04)).unwrap();
+        assert!(suction.len > 2 * mouth.patch("suction").unwrap().len, "the axial outlet is much wider than the mouth");
+    }
+
+    #[test]
     fn a_point_in_a_blocked_cell_belongs_to_a_nearby_open_cell() {
         let section = section(0.04);
         let mesh = build(&section).unwrap();
