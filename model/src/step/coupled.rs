@@ -239,7 +239,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             // a head's blades turn: a new particle must be inside the contour (or it would count
             // as spilled at once) and clear of the blades at both ends of the step
             let head = self.head.as_ref().map(|(h, _)| h);
-            let angles = ctx.rotor.map(|r| [r.angle - r.omega * dt, r.angle]);
+            let angles = ctx.rotor.map(|r| [self.state.rotor_angle, r.angle]);
             bookkeeping::feed(section, particles, ctx.time, dt, |p, radius| match (head, angles) {
                 (Some(head), Some(angles)) => {
                     let r = p.x.hypot(p.y);
