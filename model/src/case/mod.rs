@@ -260,7 +260,14 @@ impl Case {
             wall.validate(i)?;
         }
         if let Some(wear) = &self.wear {
-            let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).collect();
+            if self.particles.is_none() {
+                return Err(FieldError::new("wear", "(a [wear] section)", "a case with [particles]: wear comes from particle–wall impacts"));
+            }
+            let head_walls = match &self.cutter_head {
+                Some(head) if head.material.is_some() => crate::cutter_head::walls::head_wall_names(head),
+                _ => Vec::new(),
+            };
+            let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).chain(head_walls.iter().map(|n| n.as_str())).collect();
             wear.validate(&names)?;
         }
         Ok(())

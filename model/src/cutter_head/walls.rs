@@ -52,6 +52,15 @@ pub fn head_walls(section: &CutterHeadSection, triangle_size: f64) -> Vec<(Strin
     walls
 }
 
+/// The names [`head_walls`] gives its walls, in its order, without building them.
+pub fn head_wall_names(section: &CutterHeadSection) -> Vec<String> {
+    let head = CutterHead::new(section);
+    let mut names: Vec<String> = (0..head.blades).map(|k| wall_name(Part::Blade(k))).collect();
+    names.extend(head.plates().into_iter().map(|(part, _, _)| wall_name(part)));
+    names.push("shaft".to_string());
+    names
+}
+
 /// `blade_1` … `blade_N`, `ring`, `hub`, `pipe`.
 pub fn wall_name(part: Part) -> String {
     match part {

@@ -46,6 +46,53 @@ pub struct WearSection {
     #[serde(default)]
     pub angle_function: AngleFunctionForm,
     pub material: WearMaterial,
+    /// Damped diffusive smoothing of the wear field (wear-model.md §7.2–7.3). Without it each
+    /// impact's volume recedes at once from the three vertices of the triangle hit.
+    pub smoothing: Option<SmoothingSection>,
+    /// Whether the eroding walls recede (move their vertices); `false` is the thesis'
+    /// static-boundary mode (§7.4): the wear field is still computed.
+    #[serde(default = "yes")]
+    pub receding: bool,
+    /// Upper edge of the impact-speed histogram [m/s] (10 equal bins; faster impacts count in
+    /// the last one).
+    #[serde(default = "ten")]
+    pub histogram_max_speed: f64,
+    /// A line along which `wear_profile.csv` and its plot sample the wear depth.
+    pub profile: Option<ProfileSection>,
+}
+
+/// `[wear.smoothing]`: κ and λ of ∂w/∂t − ∇·(κ∇w) = −λw + λ Σ W_i δ (§7.2, sign-corrected).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SmoothingSection {
+    /// κ_wear [m²/s] (the thesis' "diffusivity factor", 0.001).
+    pub diffusivity: f64,
+    /// λ [1/s]; never given in the thesis (§13 row 8): spreading length √(κ/λ), time 1/λ.
+    pub damping: f64,
+}
+
+/// `[wear.profile]`: wear depth along the segment `from` → `to`, averaged over the wall
+/// triangles whose centroid lies within `width`/2 of it, in `bins` equal bins.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProfileSection {
+    pub from: [f64; 3],
+    pub to: [f64; 3],
+    pub width: f64,
+    #[serde(default = "fifty")]
+    pub bins: usize,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn ten() -> f64 {
+    10.0
+}
+
+fn fifty() -> usize {
+    50
 }
 
 fn one() -> f64 {
@@ -165,7 +212,23 @@ impl WearSection {
         in_range("wear.material.sharpness", c.sharpness, 0.25, 1.0, "(0.25 rounded … 1 fully sharp, wear-model.md §6.5)")?;
         positive("wear.material.contact_ratio", c.contact_ratio, "")?;
         positive("wear.material.deformation_factor", c.deformation_factor, "")?;
-        non_negative("wear.material.threshold_velocity", c.threshold_velocity, "m/s")
+        non_negative("wear.material.threshold_velocity", c.threshold_velocity, "m/s")?;
+        if let Some(sm) = &self.smoothing {
+            positive("wear.smoothing.diffusivity", sm.diffusivity, "m²/s")?;
+            positive("wear.smoothing.damping", sm.damping, "1/s (spreading time 1/λ)")?;
+        }
+        positive("wear.histogram_max_speed", self.histogram_max_speed, "m/s")?;
+        if let Some(p) = &self.profile {
+            crate::case::error::finite_vector("wear.profile.from", p.from)?;
+            crate::case::error::finite_vector("wear.profile.to", p.to)?;
+            let length = (0..3).map(|k| (p.to[k] - p.from[k]).powi(2)).sum::<f64>().sqrt();
+            positive("wear.profile.to", length, "m away from `from` (a segment of positive length)")?;
+            positive("wear.profile.width", p.width, "m")?;
+            if !(1..=100_000).contains(&p.bins) {
+                return Err(FieldError::new("wear.profile.bins", p.bins, "1 … 100000 bins"));
+            }
+        }
+        Ok(())
     }
 }
 
