@@ -124,6 +124,7 @@ impl Frames {
             let mut points = Vec::new();
             let mut triangles = Vec::new();
             let mut wall_index = Vec::new();
+            let mut wear = WallWearFields::default();
             for (w, wall) in walls.walls.iter().enumerate() {
                 let base = points.len();
                 points.extend(wall.vertices.iter().map(|&v| <[f64; 3]>::from(wall.to_world(v))));
@@ -131,12 +132,60 @@ impl Frames {
                     triangles.push(t.map(|i| base + i as usize));
                     wall_index.push(w as i64);
                 }
+                if let Some(state) = &state.wear {
+                    wear.push(state.walls.iter().find(|x| x.wall == w), wall);
+                }
             }
-            let poly =
-                PolyData { points: &points, cells: PolyCells::Triangles(&triangles), point_data: vec![], cell_data: vec![Field::int("wall", &wall_index)] };
+            let mut cell_data = vec![Field::int("wall", &wall_index)];
+            let mut point_data = vec![];
+            if state.wear.is_some() {
+                cell_data.extend([
+                    Field::scalar("wear_depth", &wear.depth),
+                    Field::scalar("wear_rate", &wear.rate),
+                    Field::scalar("wear_volume", &wear.volume),
+                    Field::int("impacts", &wear.impacts),
+                ]);
+                point_data.push(Field::scalar("wear_depth", &wear.vertex_depth));
+            }
+            let poly = PolyData { points: &points, cells: PolyCells::Triangles(&triangles), point_data, cell_data };
             vtk::write_vtp(&self.dir.join(&name), &poly, Encoding::by_size(points.len() * 3 + triangles.len() * 4, BINARY_ABOVE))?;
             Self::collection(&mut self.walls, out.join("walls.pvd"), self.resume_time)?.add(state.time, &format!("vtk/{name}"))?;
         }
         Ok(())
+    }
+}
+
+/// The wear fields of the walls' `.vtp`: per triangle the depth receded [m] and the recession
+/// rate [m/s] (node values averaged over its corners; accelerated, as the wall moves), the
+/// volume deposited on it [m³] and its impacts; per vertex the depth. Walls that do not erode
+/// get zeros.
+#[derive(Default)]
+struct WallWearFields {
+    depth: Vec<f64>,
+    rate: Vec<f64>,
+    volume: Vec<f64>,
+    impacts: Vec<i64>,
+    vertex_depth: Vec<f64>,
+}
+
+impl WallWearFields {
+    fn push(&mut self, wear: Option<&spillage_model::wear::state::WallWear>, wall: &spillage_model::walls::state::Wall) {
+        match wear {
+            Some(w) => {
+                self.depth.extend(w.on_triangles(&w.node_depth, &wall.triangles));
+                self.rate.extend(w.on_triangles(&w.node_rate, &wall.triangles));
+                self.volume.extend(&w.triangle_volume);
+                self.impacts.extend(w.triangle_impacts.iter().map(|&n| n as i64));
+                self.vertex_depth.extend(w.at_vertices(&w.node_depth));
+            }
+            None => {
+                let n = wall.triangles.len();
+                self.depth.extend(std::iter::repeat(0.0).take(n));
+                self.rate.extend(std::iter::repeat(0.0).take(n));
+                self.volume.extend(std::iter::repeat(0.0).take(n));
+                self.impacts.extend(std::iter::repeat(0).take(n));
+                self.vertex_depth.extend(std::iter::repeat(0.0).take(wall.vertices.len()));
+            }
+        }
     }
 }

@@ -8,6 +8,7 @@ mod progress;
 mod run;
 mod sweep;
 mod verify_cmd;
+mod wear_report;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

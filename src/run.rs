@@ -62,7 +62,15 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
     if fluid.is_some() && particles.is_some() && case.coupling.is_none() {
         eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles; add a [coupling] section for two-way coupling");
     }
-    Ok(Box::new(Coupled::new(case, state, fluid, particles).map_err(located)?))
+    let wear = match &case.wear {
+        Some(_) => Some(Box::new(spillage_reference::wear::ReferenceWear::new(case, &mut state).map_err(located)?)),
+        None => None,
+    };
+    let run = Coupled::new(case, state, fluid, particles).map_err(located)?;
+    Ok(Box::new(match wear {
+        Some(w) => run.with_wear(w).map_err(located)?,
+        None => run,
+    }))
 }
 
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
@@ -87,9 +95,6 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let restart_time = restart.as_ref().map(|s| s.time);
     let restart_step = restart.as_ref().map(|s| s.step);
     let mut solver = build_solver(&case, opts.solver, restart)?;
-    if case.wear.is_some() {
-        eprintln!("note: wall wear is not modelled yet; [wear] is validated but has no effect on this run");
-    }
 
     let mut summary = Summary::new(&case.case.name, solver.name());
     summary.set_detail("case_file", case.path.display().to_string());
@@ -135,7 +140,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if case.output.plots {
         draw_plots(&out, &case.case.name)?;
     }
-    for line in crate::head_report::report(&case, state, &out)? {
+    for line in crate::head_report::report(&case, state, &out)?.into_iter().chain(crate::wear_report::report(&case, state, &out)?) {
         eprintln!("{line}");
     }
     match result {

@@ -1,6 +1,6 @@
 //! Checkpoints: a [`State`] written to disk and read back bit-for-bit.
 //!
-//! Layout: a text header line (`spillage-checkpoint 2 <case name>\n`, 2 the format version), the state in postcard
+//! Layout: a text header line (`spillage-checkpoint 3 <case name>\n`, 2 the format version), the state in postcard
 //! (f64 stored as their 8 bytes, so nothing is rounded), and an FNV-1a 64-bit checksum of the
 //! payload, so a truncated or damaged file is refused instead of silently resuming from garbage.
 //! Writes go to a temporary file in the same folder that is renamed over the target, so a crash
@@ -13,8 +13,8 @@ use crate::state::State;
 
 const MAGIC: &str = "spillage-checkpoint";
 /// 2: the one-step pipeline (rotor pose stored once, walls without their own angle, particle
-/// exits, the last Courant number).
-const VERSION: u32 = 2;
+/// exits, the last Courant number); 3: wear (the wear state, wall revisions, impact points).
+const VERSION: u32 = 3;
 
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {
@@ -22,7 +22,7 @@ pub enum CheckpointError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: not a spillage checkpoint (header {found:?})")]
     NotACheckpoint { path: PathBuf, found: String },
-    #[error("{path}: checkpoint format version {found}, this program reads version {VERSION} only (checkpoints written before the one-step pipeline cannot be continued; rerun from the start)")]
+    #[error("{path}: checkpoint format version {found}, this program reads version {VERSION} only (checkpoints of older versions cannot be continued; rerun from the start)")]
     Version { path: PathBuf, found: String },
     #[error("{path}: checkpoint of case {found:?}, but the case being run is {expected:?}")]
     WrongCase { path: PathBuf, found: String, expected: String },

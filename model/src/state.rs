@@ -3,6 +3,7 @@
 use crate::fluid::state::FluidState;
 use crate::particles::state::ParticleState;
 use crate::walls::state::WallState;
+use crate::wear::state::WearState;
 
 /// Everything needed to continue a run bit-for-bit: written to and read from checkpoints.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -22,4 +23,6 @@ pub struct State {
     pub fluid: Option<FluidState>,
     pub particles: Option<ParticleState>,
     pub walls: Option<WallState>,
+    /// What the eroding walls have lost (`[wear]`).
+    pub wear: Option<WearState>,
 }

@@ -3,3 +3,4 @@
 
 pub mod dem;
 pub mod fluid;
+pub mod wear;

@@ -29,7 +29,7 @@ pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
             add_group(section, group, &key, &mut state)?;
         }
     }
-    state.counts = ParticleCounts { created: state.particles.len() as u64 };
+    state.counts = ParticleCounts { created: state.particles.len() as u64, impacts: 0 };
     Ok(state)
 }
 

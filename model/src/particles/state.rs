@@ -91,9 +91,14 @@ pub struct ImpactRecord {
     pub tangential_speed: f64,
     /// Impact angle between the relative velocity and the wall surface [rad] (π/2 = head-on).
     pub angle: f64,
-    /// Particle mass and diameter (the wear law needs them).
+    /// Particle mass, diameter and density (the wear laws need them).
     pub mass: f64,
     pub diameter: f64,
+    pub density: f64,
+    /// Contact point on the wall and unit normal from the particle into the wall, both in the
+    /// wall's body frame (where wear is deposited and the wall recedes).
+    pub point: Vec3,
+    pub normal: Vec3,
 }
 
 /// Particle bookkeeping: created = particles.len() + exits.len(), always.
@@ -101,6 +106,8 @@ pub struct ImpactRecord {
 pub struct ParticleCounts {
     /// Created in total (initial + fed).
     pub created: u64,
+    /// Particle–wall impacts so far (the impacts themselves are consumed every step).
+    pub impacts: u64,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -109,7 +116,8 @@ pub struct ParticleState {
     pub particles: Vec<Particle>,
     /// Contact history, sorted by (particle, partner).
     pub contacts: Vec<ContactRecord>,
-    /// Every particle–wall impact so far, in time order.
+    /// The particle–wall impacts of the current step, in time order: the wear phase consumes
+    /// them at the end of the step (the log never grows beyond one step).
     pub impacts: Vec<ImpactRecord>,
     pub counts: ParticleCounts,
     /// Every particle that left, in the order it left.

@@ -14,7 +14,9 @@
 //!    ([`ParticleMeshMap::deposit`]) and α_c = 1 − α_p becomes the fluid's fraction of this step
 //!    (T3.90; ∂α_c/∂t then follows from the stored time levels, T3.92);
 //! 7. PIMPLE with the cell load ([`FluidPhase::advance`]; one-way coupling passes none);
-//! 8. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
+//! 8. wear: the step's particle–wall impacts become removed volume and the eroding walls recede
+//!    ([`WearPhase::advance`], `[wear]`); the impact log is emptied every step;
+//! 9. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
 //!
 //! A step that returns an error leaves the run unusable (the particles may already have moved
 //! while the fluid and the clock have not): the caller stops and reports, as `spillage run`
@@ -25,7 +27,7 @@
 //! fluid with either particle phase to localise a disagreement).
 
 use super::context::StepContext;
-use super::phases::{Absent, FluidPhase, ParticleLoad, ParticlePhase};
+use super::phases::{Absent, FluidPhase, ParticleLoad, ParticlePhase, WearPhase};
 use super::rotor_pose::RotorPose;
 use super::time_step::TimeStepControl;
 use crate::case::Case;
@@ -63,6 +65,9 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     down: Option<Vec3>,
     /// A cutter head's geometry and hull faces (spillage bookkeeping, hull fluxes).
     head: Option<(CutterHead, HullFaces)>,
+    /// The wear phase (`[wear]`, set by [`Coupled::with_wear`]) and whether the case asks for one.
+    wear: Option<Box<dyn WearPhase>>,
+    wear_in_case: bool,
     label: &'static str,
 }
 
@@ -165,8 +170,23 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             cell_load: None,
             down,
             head,
+            wear: None,
+            wear_in_case: case.wear.is_some(),
             label,
         })
+    }
+
+    /// Adds the wear phase of a `[wear]` case (the state must hold the wear state it advances,
+    /// which the phase's constructor sets up).
+    pub fn with_wear(mut self, wear: Box<dyn WearPhase>) -> Result<Self, SolverError> {
+        if !self.wear_in_case {
+            return Err(unsupported("a wear phase was given, but the case has no [wear] section"));
+        }
+        if self.state.wear.is_none() {
+            return Err(unsupported("a wear phase was given, but the state holds no wear state"));
+        }
+        self.wear = Some(wear);
+        Ok(self)
     }
 
     /// The particle load of the last step, per particle (two-way coupled runs).
@@ -314,7 +334,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                     ("spillage", fraction(counts.spilled)),
                 ]);
             }
-            report.values.push(("impacts", particles.impacts.len() as f64));
+            report.values.push(("impacts", particles.counts.impacts as f64));
             // every step reports the same columns (series.csv has one header): 0 while a feed
             // has not placed any particle yet
             if let Some(down) = self.down {
@@ -359,7 +379,23 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
         }
 
-        // 8. the clock
+        // 8. wear, from the impacts of this step
+        if let Some(particles) = self.state.particles.as_mut() {
+            let mut impacts = std::mem::take(&mut particles.impacts);
+            match (self.wear.as_mut(), self.wear_in_case) {
+                (Some(phase), _) => {
+                    let wear = self.state.wear.as_mut().expect("checked in with_wear");
+                    let walls = self.state.walls.as_mut().expect("checked in new");
+                    phase.advance(&ctx, &impacts, wear, walls, report)?;
+                }
+                (None, true) => return Err(unsupported("the case has a [wear] section, but the run has no wear phase")),
+                (None, false) => {}
+            }
+            impacts.clear();
+            particles.impacts = impacts;
+        }
+
+        // 9. the clock
         self.state.time = ctx.time_end();
         self.state.step = ctx.step;
         self.state.dt = dt;

@@ -1,5 +1,5 @@
-//! The two phases a step advances, behind small traits so that any fluid phase pairs with any
-//! particle phase (DESIGN.md "One step, one pipeline").
+//! The phases a step advances, behind small traits so that any fluid phase pairs with any
+//! particle phase (DESIGN.md "One step, one pipeline"); wear follows them.
 
 use super::context::StepContext;
 use crate::closure::drag::FluidAtParticle;
@@ -7,9 +7,11 @@ use crate::coupling::CellLoad;
 use crate::fluid::sampling::FluidSample;
 use crate::fluid::state::FluidState;
 use crate::mesh::Mesh;
+use crate::particles::ImpactRecord;
 use crate::particles::ParticleState;
 use crate::solver::{SolverError, StepReport};
 use crate::walls::state::WallState;
+use crate::wear::state::WearState;
 
 /// What a fluid step tells the driver besides its report.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -86,6 +88,22 @@ pub trait ParticlePhase {
         fluid: &[Option<FluidAtParticle>],
         report: &mut StepReport,
     ) -> Result<Option<ParticleLoad>, SolverError>;
+}
+
+/// Wear (`[wear]`, wear-model.md §7): turns the step's particle–wall impacts into removed
+/// volume, smooths it over the wall surfaces and moves the eroding walls' vertices (bumping
+/// their revision, so the particle phase collides with the worn shape from the next step on).
+pub trait WearPhase {
+    fn name(&self) -> &'static str;
+    /// Consumes `impacts` (the step's, in time order) into `wear` and recedes `walls`.
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        impacts: &[ImpactRecord],
+        wear: &mut WearState,
+        walls: &mut WallState,
+        report: &mut StepReport,
+    ) -> Result<(), SolverError>;
 }
 
 impl<T: FluidPhase + ?Sized> FluidPhase for Box<T> {

@@ -82,7 +82,7 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
 fn wall(name: String, material: usize, mesh: TriangleMesh, motion: WallMotion) -> Result<Wall, WallError> {
     let TriangleMesh { vertices, triangles } = mesh;
     match geometry::WallMesh::new(&vertices, &triangles) {
-        Ok(_) => Ok(Wall { name, material, vertices, triangles, motion, pose: Default::default() }),
+        Ok(_) => Ok(Wall { name, material, vertices, triangles, motion, revision: 0, pose: Default::default() }),
         Err(message) => Err(WallError::Geometry { wall: name, message }),
     }
 }

@@ -58,6 +58,9 @@ pub struct Wall {
     pub vertices: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
     pub motion: WallMotion,
+    /// Bumped whenever the vertices move (a receding wall): the particle phase rebuilds its
+    /// collision structure for the wall when it sees a new revision.
+    pub revision: u64,
     /// The pose set by the last [`Wall::place`] (not stored in checkpoints: it is a function of
     /// the time and the rotor pose, which are).
     #[serde(skip)]

@@ -1,4 +1,9 @@
-//! Erosive wear of the walls (spec wear-model.md). For now: the `[wear]` case section; the
-//! erosion laws, smoothing and boundary recession follow in their own files.
+//! Erosive wear of the walls (spec wear-model.md): the `[wear]` section, the erosion laws, the
+//! wear surface of a wall (welded nodes, smoothing operators, swept volume) and the wear state.
+//! The stepping (deposit, smooth, recede) is a [`crate::step::WearPhase`] of each solver.
 
+pub mod laws;
+pub mod profile;
 pub mod settings;
+pub mod state;
+pub mod surface;

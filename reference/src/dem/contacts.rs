@@ -163,6 +163,9 @@ pub fn evaluate(
                             angle: normal_speed.atan2(tangential_speed),
                             mass: p.mass(),
                             diameter: p.diameter,
+                            density: p.density,
+                            point: contact.point,
+                            normal: (contact.point - wall.to_body(p.position)) / contact.distance,
                         });
                         ContactRecord {
                             particle: p.id,

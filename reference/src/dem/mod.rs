@@ -37,6 +37,8 @@ pub struct ReferenceDem {
     materials: MaterialTable,
     gravity: Vec3,
     wall_meshes: Vec<WallMesh>,
+    /// The wall revision each mesh was built from (a receding wall is rebuilt when it moves).
+    mesh_revisions: Vec<u64>,
     /// Fluid density and viscosity for the wet restitution (T3.103), if wet.
     wet_fluid: Option<(f64, f64)>,
     drag_law: DragLaw,
@@ -75,6 +77,7 @@ impl ReferenceDem {
         for w in &walls.walls {
             wall_meshes.push(WallMesh::new(&w.vertices, &w.triangles).map_err(|m| unsupported(format!("wall `{}`: {m}", w.name)))?);
         }
+        let mesh_revisions = walls.walls.iter().map(|w| w.revision).collect();
         let materials = MaterialTable::new(&section.materials, section.slip_test);
         let wet_fluid = match (&case.fluid, &section.ambient) {
             (Some(f), _) => Some((f.density, f.kinematic_viscosity)),
@@ -90,6 +93,7 @@ impl ReferenceDem {
         Ok(Self {
             gravity: Vec3::from(case.physics.gravity),
             wall_meshes,
+            mesh_revisions,
             wet_fluid,
             drag_law,
             feedback,
@@ -213,11 +217,24 @@ impl ReferenceDem {
         load.slip_reynolds[i] = step.slip_reynolds;
     }
 
+    /// Rebuilds the collision mesh of every wall that moved its vertices since (a receding wall,
+    /// wear-model.md §7.4), so contacts see its worn shape.
+    pub fn refresh_wall_meshes(&mut self, walls: &WallState) -> Result<(), SolverError> {
+        for (i, w) in walls.walls.iter().enumerate() {
+            if self.mesh_revisions[i] != w.revision {
+                self.wall_meshes[i] = WallMesh::new(&w.vertices, &w.triangles).map_err(|m| unsupported(format!("worn wall `{}`: {m}", w.name)))?;
+                self.mesh_revisions[i] = w.revision;
+            }
+        }
+        Ok(())
+    }
+
     /// Contact forces and torques at the current positions (fluid-dem-model.md §7.8).
     fn evaluate_contacts(&mut self, particles: &mut ParticleState, walls: &WallState, time: f64, dt: f64) {
         let mut impacts = Vec::new();
         let context = contacts::Context { materials: &self.materials, walls: &walls.walls, meshes: &self.wall_meshes, wet_fluid: self.wet_fluid, time, dt };
         self.samples = contacts::evaluate(&context, &mut particles.particles, &mut self.history, &mut impacts);
+        particles.counts.impacts += impacts.len() as u64;
         particles.impacts.extend(impacts);
     }
 }
@@ -237,6 +254,7 @@ impl ParticlePhase for ReferenceDem {
         fluid: &[Option<FluidAtParticle>],
         report: &mut StepReport,
     ) -> Result<Option<ParticleLoad>, SolverError> {
+        self.refresh_wall_meshes(walls)?;
         self.load_history(particles);
         let n = self.substeps_for(ctx.dt, &particles.particles, walls);
         let dt_s = ctx.dt / n as f64;

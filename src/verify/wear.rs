@@ -1,0 +1,200 @@
+//! Wear checks (wear-model.md §6, §7, §15): a stream of identical particles against a plate,
+//! run through the whole step (DEM impacts → erosion law → deposit → smoothing → receding
+//! wall) and compared with the erosion law of the `analytic` crate and with the volume
+//! bookkeeping.
+
+use std::path::Path;
+
+use anyhow::{anyhow, bail, Context, Result};
+use spillage_analytic::erosion::{arabnejad_wear, AngleFunction, ArabnejadMaterial, ArabnejadOptions};
+use spillage_model::case::Case;
+use spillage_model::output::plot::{write_png, Plot, Series};
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_model::step::{reached_end_time, Coupled};
+use spillage_model::walls::state::Vec3;
+use spillage_model::wear::settings::{AngleFunctionForm, ErosionLawName};
+use spillage_model::wear::surface::WearSurface;
+use spillage_reference::dem::ReferenceDem;
+use spillage_reference::wear::ReferenceWear;
+
+use super::CheckRow;
+
+/// Checks implemented here.
+pub const CHECKS: &[&str] = &["wear_stream"];
+
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+    match check {
+        "wear_stream" => stream(case, full, plots),
+        other => bail!("unknown wear check `{other}`; known: {}", CHECKS.join(", ")),
+    }
+}
+
+const SOLVER: &str = "reference";
+
+fn params(case: &Case) -> Result<&toml::Table> {
+    case.verify.as_ref().map(|v| &v.params).ok_or_else(|| anyhow!("{}: no [verify] section", case.path.display()))
+}
+
+fn number(case: &Case, key: &str) -> Result<f64> {
+    let v = params(case)?.get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("verify.params.{key}: {v} is not a number"))
+}
+
+fn numbers(case: &Case, key: &str) -> Result<Vec<f64>> {
+    let value = params(case)?.get(key).ok_or_else(|| anyhow!("{}: [verify.params] needs `{key}`", case.path.display()))?;
+    let array = value.as_array().ok_or_else(|| anyhow!("{}: verify.params.{key} must be a list of numbers", case.path.display()))?;
+    array.iter().map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("verify.params.{key}: {v} is not a number"))).collect()
+}
+
+/// Runs a particle-only wear case to its end time with the reference DEM and wear phase.
+pub fn run_to_end(case: &Case) -> Result<State> {
+    let mut state = State::default();
+    let dem = ReferenceDem::new(case, &mut state)?;
+    let wear = ReferenceWear::new(case, &mut state)?;
+    let mut run = Coupled::particles_only(case, state, dem)?.with_wear(Box::new(wear))?;
+    let end = case.time.end_time.ok_or_else(|| anyhow!("{}: wear checks need [time] end_time", case.path.display()))?;
+    while !reached_end_time(run.state().time, end) {
+        run.step().with_context(|| format!("case {}", case.case.name))?;
+    }
+    Ok(run.state().clone())
+}
+
+/// The stream case with its particles aimed at `angle` (from the plate) at the same speed.
+fn aimed(base: &Case, angle_deg: f64) -> Result<Case> {
+    let mut case = base.clone();
+    let feed =
+        case.particles.as_mut().and_then(|p| p.feed.first_mut()).ok_or_else(|| anyhow!("{}: the stream needs a [[particles.feed]]", base.path.display()))?;
+    let speed = feed.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let a = angle_deg.to_radians();
+    feed.velocity = [speed * a.cos(), 0.0, -speed * a.sin()];
+    feed.rate = number(base, "sweep_rate")?;
+    feed.end = Some(number(base, "sweep_feed_end")?);
+    case.time.end_time = Some(number(base, "sweep_end_time")?);
+    Ok(case)
+}
+
+/// `wear_stream`: (1) at each angle of `angles_deg`, the removed volume per unit mass of the
+/// particles that hit equals the analytic law at that speed and angle, and the angle of the
+/// largest wear is the law's; (2) the full stream: Σ per-impact volumes = Σ deposited on the
+/// triangles = receded + still smoothing, and the receded volume = the wall's geometric
+/// volume change.
+fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let section = base.wear.as_ref().ok_or_else(|| anyhow!("{}: the wear checks need [wear]", base.path.display()))?;
+    if section.law != ErosionLawName::Arabnejad {
+        bail!("{}: wear_stream compares with the Arabnejad law; the case has {:?}", base.path.display(), section.law);
+    }
+    let c = section.material.constants().map_err(|e| anyhow!("{}: {} = {}: {}", base.path.display(), e.key, e.value, e.allowed))?;
+    let material = ArabnejadMaterial {
+        density: c.density,
+        cutting_coefficient: c.cutting_coefficient,
+        vickers_hardness: c.vickers_hardness,
+        sharpness: c.sharpness,
+        contact_ratio: c.contact_ratio,
+        deformation_factor: c.deformation_factor,
+        threshold_velocity: c.threshold_velocity,
+    };
+    let options = ArabnejadOptions {
+        angle_function: match section.angle_function {
+            AngleFunctionForm::ThesisLiteral => AngleFunction::ThesisLiteral,
+            AngleFunctionForm::Continuous => AngleFunction::Continuous,
+        },
+        ..ArabnejadOptions::default()
+    };
+    let feed = base.particles.as_ref().and_then(|p| p.feed.first()).ok_or_else(|| anyhow!("no feed"))?;
+    let material_name = &feed.material;
+    let particle = base.particles.as_ref().and_then(|p| p.materials.iter().find(|m| &m.name == material_name)).ok_or_else(|| anyhow!("no feed material"))?;
+    let diameter = feed.diameter.largest();
+    let mass = particle.density * std::f64::consts::PI * diameter.powi(3) / 6.0;
+    let speed = feed.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let scale = section.modifier * section.acceleration;
+
+    let mut rows = Vec::new();
+    let (mut measured, mut exact) = (Vec::new(), Vec::new());
+    for angle in numbers(base, "angles_deg")? {
+        let case = aimed(base, angle)?;
+        let state = run_to_end(&case)?;
+        let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
+        let impacts: u64 = wear.walls.iter().flat_map(|w| &w.triangle_impacts).sum();
+        if impacts == 0 {
+            bail!("{name}: no particle hit the plate at {angle}°");
+        }
+        let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
+        let created = state.particles.as_ref().map_or(0, |p| p.counts.created);
+        // one particle per angle: a stream would rebound into its own incoming particles
+        rows.push(CheckRow::absolute(name, format!("impacts of the one particle at {angle}°"), SOLVER, impacts as f64, created as f64, 0.0));
+        let per_mass = deposited / scale / (impacts as f64 * mass);
+        let law = arabnejad_wear(&material, &options, mass, particle.density, speed, angle.to_radians()).map_err(|e| anyhow!("analytic: {e}"))?;
+        let reference = law.volume / mass;
+        // identical particles at first touch: the DEM sees the feed velocity exactly, so only
+        // round-off separates the two codes' evaluations of the law
+        rows.push(CheckRow::relative(name, format!("removed volume per particle mass [m³/kg] at {angle}°, {speed} m/s"), SOLVER, per_mass, reference, 1e-10));
+        measured.push((angle, per_mass));
+        exact.push((angle, reference));
+    }
+    let argmax = |v: &[(f64, f64)]| v.iter().copied().fold((f64::NAN, f64::NEG_INFINITY), |best, p| if p.1 > best.1 { p } else { best }).0;
+    rows.push(CheckRow::absolute(name, "angle of the largest wear rate among the angles run [°]", SOLVER, argmax(&measured), argmax(&exact), 0.0));
+    if let Some(dir) = plots {
+        std::fs::create_dir_all(dir)?;
+        let dense: Vec<(f64, f64)> = (0..=180)
+            .map(|k| 0.5 * k as f64)
+            .filter_map(|a| arabnejad_wear(&material, &options, mass, particle.density, speed, a.to_radians()).ok().map(|w| (a, w.volume / mass)))
+            .collect();
+        let title = format!("{name}: wear per unit mass of particles against the impact angle ({speed} m/s)");
+        write_png(
+            &Plot {
+                title: &title,
+                x_label: "impact angle from the surface [°]",
+                y_label: "removed wall volume per particle mass [m³/kg]",
+                log_x: false,
+                log_y: false,
+                series: vec![Series { label: "analytic (Arabnejad, §6.4)", points: &dense }, Series { label: "simulated stream", points: &measured }],
+            },
+            &dir.join(format!("{name}_angle.png")),
+        )?;
+    }
+
+    // the stream as the case gives it (coarse: the first part of it)
+    let mut case = base.clone();
+    if !full {
+        case.time.end_time = Some(number(base, "coarse_end_time")?);
+    }
+    let state = run_to_end(&case)?;
+    let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
+    let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
+    // measured on the geometry, independently of the wear phase's bookkeeping: the walls as
+    // the case builds them (unworn) against the walls at the end
+    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
+    let unworn = spillage_model::walls::build(&case, &dir)?;
+    let impacts: u64 = wear.walls.iter().flat_map(|w| &w.triangle_impacts).sum();
+    let law_total: f64 = wear.walls.iter().map(|w| scale * (w.law_cutting + w.law_deformation)).sum();
+    let on_triangles: f64 = wear.walls.iter().flat_map(|w| &w.triangle_volume).sum();
+    let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
+    let damping = section.smoothing.as_ref().map(|s| s.damping);
+    let (mut in_flight, mut geometric) = (0.0, 0.0);
+    for w in &wear.walls {
+        let before = &unworn.walls[w.wall];
+        let surface = WearSurface::new(&before.vertices, &before.triangles);
+        in_flight += w.in_flight(&surface.node_area, damping);
+        let (nodes_before, nodes_after) = (surface.nodes(&before.vertices), surface.nodes(&walls.walls[w.wall].vertices));
+        let origin = nodes_before.iter().fold(Vec3::zeros(), |a, p| a + p) / nodes_before.len() as f64;
+        geometric += w.material_side * (surface.cone_volume(&nodes_after, origin) - surface.cone_volume(&nodes_before, origin));
+    }
+    let receded: f64 = wear.walls.iter().map(|w| w.receded + w.pending).sum();
+    let minimum = number(base, if full { "full_min_impacts" } else { "coarse_min_impacts" })?;
+    rows.push(CheckRow::at_least(name, "impacts on the plate (the stream)", SOLVER, impacts as f64, minimum));
+    // sums of the same numbers in different orders: round-off of a sum of n terms
+    rows.push(CheckRow::relative(name, "Σ deposited on the triangles vs Σ per-impact volumes (relative)", SOLVER, on_triangles, law_total, 1e-12));
+    rows.push(CheckRow::relative(name, "receded + still smoothing vs deposited (relative; §7.3 identity)", SOLVER, receded + in_flight, deposited, 1e-12));
+    // the bound: each step's recession is solved to 1e-12 of its volume
+    rows.push(CheckRow::relative(
+        name,
+        "wall geometric volume change vs receded volume (relative)",
+        SOLVER,
+        geometric,
+        wear.walls.iter().map(|w| w.receded).sum(),
+        1e-9,
+    ));
+    Ok(rows)
+}

@@ -1,0 +1,140 @@
+//! Wear (issue 17) through the whole step: the stream check of the ladder at its coarse level,
+//! restarts bit-for-bit with worn walls, the DEM colliding with the worn shape, a clear error
+//! instead of a tangled wall, and a cutter head wearing its blades.
+
+use std::path::Path;
+
+use spillage_model::case::Case;
+use spillage_model::particles::state::Vec3;
+use spillage_model::particles::Particle;
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_model::step::Coupled;
+use spillage_model::wear::surface::WearSurface;
+use spillage_reference::dem::ReferenceDem;
+use spillage_reference::wear::ReferenceWear;
+
+fn stream_case(edit: impl Fn(&mut toml::Table)) -> Case {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/stream_plate.toml");
+    let mut table: toml::Table = std::fs::read_to_string(&path).unwrap().parse().unwrap();
+    edit(&mut table);
+    Case::from_toml(&toml::to_string(&table).unwrap(), &path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(case: &Case, state: State) -> Coupled<spillage_model::step::Absent, ReferenceDem> {
+    let mut state = state;
+    let dem = ReferenceDem::new(case, &mut state).unwrap();
+    let wear = ReferenceWear::new(case, &mut state).unwrap();
+    Coupled::particles_only(case, state, dem).unwrap().with_wear(Box::new(wear)).unwrap()
+}
+
+#[test]
+fn the_stream_check_passes_at_its_coarse_level() {
+    let case = stream_case(|_| {});
+    let rows = spillage::verify::run_case(&case, false).unwrap();
+    let failed: Vec<_> = rows.iter().filter(|r| !r.pass).collect();
+    assert!(failed.is_empty(), "{failed:#?}");
+    assert!(rows.len() >= 2 * 8 + 4, "{} rows", rows.len());
+}
+
+#[test]
+fn a_restart_with_worn_walls_continues_bit_for_bit() {
+    let case = stream_case(|_| {});
+    let mut straight = run(&case, State::default());
+    for _ in 0..40 {
+        straight.step().unwrap();
+    }
+    let mut first = run(&case, State::default());
+    for _ in 0..25 {
+        first.step().unwrap();
+    }
+    let wear = first.state().wear.as_ref().unwrap();
+    assert!(wear.walls[0].receded > 0.0, "the plate must have receded before the checkpoint");
+    let path = std::env::temp_dir().join(format!("spillage-wear-restart-{}.chk", std::process::id()));
+    spillage_model::checkpoint::write(&path, &case.case.name, first.state()).unwrap();
+    let restored = spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap();
+    std::fs::remove_file(&path).ok();
+    let mut second = run(&case, restored);
+    for _ in 0..15 {
+        second.step().unwrap();
+    }
+    assert_eq!(second.state(), straight.state());
+}
+
+#[test]
+fn the_dem_collides_with_the_worn_shape_of_a_receding_wall() {
+    let case = stream_case(|_| {});
+    let mut state = State::default();
+    let mut dem = ReferenceDem::new(&case, &mut state).unwrap();
+    let particles = state.particles.as_mut().unwrap();
+    let material = 0;
+    // a 2 mm sphere 0.5 mm into the plate's original surface
+    particles.particles.push(Particle {
+        id: 0,
+        material,
+        diameter: 0.002,
+        density: 2500.0,
+        position: Vec3::new(0.0, 0.0, 0.0005),
+        velocity: Vec3::zeros(),
+        spin: Vec3::zeros(),
+        contact_force: Vec3::zeros(),
+        contact_torque: Vec3::zeros(),
+        contacts: 0,
+    });
+    let contacts_after_substep = |dem: &mut ReferenceDem, state: &mut State| {
+        let (particles, walls) = (state.particles.as_mut().unwrap(), state.walls.as_mut().unwrap());
+        dem.refresh_wall_meshes(walls).unwrap();
+        dem.substep(particles, walls, 1e-9, 1e-9, None, &|_, _| None);
+        particles.particles[0].contacts
+    };
+    assert_eq!(contacts_after_substep(&mut dem, &mut state), 1);
+    // the whole plate worn 1 mm deep: the sphere is clear of it
+    let walls = state.walls.as_mut().unwrap();
+    for v in &mut walls.walls[0].vertices {
+        v.z -= 0.001;
+    }
+    walls.walls[0].revision += 1;
+    assert_eq!(contacts_after_substep(&mut dem, &mut state), 0);
+}
+
+#[test]
+fn wear_deeper_than_the_triangles_is_a_clear_error() {
+    let case = stream_case(|t| {
+        t["wear"]["acceleration"] = toml::Value::Float(1e6);
+        t["wear"].as_table_mut().unwrap().remove("smoothing");
+    });
+    let mut run = run(&case, State::default());
+    let error = loop {
+        match run.step() {
+            Ok(_) => assert!(run.state().time < 0.03, "no error although every impact removes millimetres"),
+            Err(e) => break e.to_string(),
+        }
+    };
+    assert!(error.contains("wall `plate` would turn inside out") && error.contains("acceleration"), "{error}");
+}
+
+#[test]
+fn a_cutter_head_wears_its_blades_with_one_wear_section() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml");
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    text.push_str(
+        "\n[wear]\nlaw = \"arabnejad\"\nwalls = [\"blade_1\", \"blade_2\", \"blade_3\", \"blade_4\", \"blade_5\", \"blade_6\"]\n\
+         [wear.material]\npreset = \"carbon_steel_1018\"\nvickers_hardness = 1.31e9\n",
+    );
+    let case = Case::from_toml(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+    let mut state = State::default();
+    let _dem = ReferenceDem::new(&case, &mut state).unwrap();
+    let wear = ReferenceWear::new(&case, &mut state).unwrap();
+    let walls = state.walls.as_ref().unwrap();
+    let wear_state = state.wear.as_ref().unwrap();
+    assert_eq!(wear_state.walls.len(), 6);
+    for (w, surface) in wear_state.walls.iter().zip(wear.surfaces()) {
+        // a blade is a closed solid: no rim, and its material is inside its winding
+        assert!(surface.closed, "{} is open", w.name);
+        assert!(w.material_side != 0.0 && w.initial_volume != 0.0, "{}", w.name);
+        assert_eq!(walls.walls[w.wall].name, w.name);
+        let nodes = surface.nodes(&walls.walls[w.wall].vertices);
+        let fresh = WearSurface::new(&walls.walls[w.wall].vertices, &walls.walls[w.wall].triangles);
+        assert_eq!(fresh.n_nodes, nodes.len());
+    }
+}
