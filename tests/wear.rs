@@ -35,6 +35,11 @@ fn the_stream_check_passes_at_its_coarse_level() {
     let failed: Vec<_> = rows.iter().filter(|r| !r.pass).collect();
     assert!(failed.is_empty(), "{failed:#?}");
     assert!(rows.len() >= 2 * 8 + 4, "{} rows", rows.len());
+    // volumes and rates to 3 significant digits: a change that moves a verified number shows
+    let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+        insta::assert_json_snapshot!("wear_stream_plate", summary);
+    });
 }
 
 #[test]

@@ -50,15 +50,30 @@ pub fn recede(surface: &WearSurface, nodes: &[Vec3], depth: &[f64], receding: bo
         return Err(format!("wall `{}`: the receding wall's volume equation has no solution (removed volume {target:e} m³)", w.name));
     }
     let moved: Vec<Vec3> = nodes.iter().zip(&displacement).map(|(p, d)| p + s * d).collect();
+    let inside_out = |centre: Vec3| {
+        format!(
+            "wall `{}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or modifier, or widen [wear.smoothing]",
+            w.name, centre.x, centre.y, centre.z
+        )
+    };
+    // a node may move at most half its shortest edge in one step: deeper, its triangles fold
+    let mut shortest = vec![f64::INFINITY; surface.n_nodes];
+    for t in &surface.triangles {
+        for k in 0..3 {
+            let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            let length = (nodes[i] - nodes[j]).norm();
+            shortest[i] = shortest[i].min(length);
+            shortest[j] = shortest[j].min(length);
+        }
+    }
+    if let Some(j) = (0..surface.n_nodes).find(|&j| s * displacement[j].norm() > 0.5 * shortest[j]) {
+        return Err(inside_out(nodes[j]));
+    }
     for t in &surface.triangles {
         let [a, b, cc] = t.map(|n| nodes[n as usize]);
         let [a2, b2, c2] = t.map(|n| moved[n as usize]);
         if (b - a).cross(&(cc - a)).dot(&(b2 - a2).cross(&(c2 - a2))) <= 0.0 {
-            let centre = (a + b + cc) / 3.0;
-            return Err(format!(
-                "wall `{}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or modifier, or widen [wear.smoothing]",
-                w.name, centre.x, centre.y, centre.z
-            ));
+            return Err(inside_out((a + b + cc) / 3.0));
         }
     }
     for (v, &node) in wall.vertices.iter_mut().zip(&surface.node_of_vertex) {
@@ -84,4 +99,61 @@ pub fn recede(surface: &WearSurface, nodes: &[Vec3], depth: &[f64], receding: bo
 pub fn geometric_removed_volume(surface: &WearSurface, w: &WallWear, vertices: &[Vec3]) -> f64 {
     let nodes = surface.nodes(vertices);
     w.material_side * (surface.cone_volume(&nodes, Vec3::from(w.volume_origin)) - w.initial_volume)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spillage_model::walls::geometry::box_faces;
+    use spillage_model::walls::state::WallMotion;
+
+    fn closed_box() -> (Wall, WearSurface, WallWear) {
+        let mesh = box_faces(Vec3::zeros(), Vec3::new(0.1, 0.1, 0.1), 4, &[]);
+        let surface = WearSurface::new(&mesh.vertices, &mesh.triangles);
+        let wall = Wall {
+            name: "box".into(),
+            material: 0,
+            vertices: mesh.vertices,
+            triangles: mesh.triangles,
+            motion: WallMotion::Static,
+            revision: 0,
+            pose: Default::default(),
+        };
+        let nodes = surface.nodes(&wall.vertices);
+        let mut w = WallWear::new(0, "box".into(), wall.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
+        w.volume_origin = [0.05; 3];
+        w.initial_volume = surface.cone_volume(&nodes, Vec3::from(w.volume_origin));
+        w.material_side = -w.initial_volume.signum();
+        (wall, surface, w)
+    }
+
+    #[test]
+    fn a_closed_wall_loses_exactly_the_removed_volume_from_its_enclosed_volume() {
+        let (mut wall, surface, mut w) = closed_box();
+        assert!(surface.closed && (w.initial_volume.abs() - 1e-3).abs() < 1e-15);
+        // uneven depths on the nodes of the top face, including its edges and corners
+        let nodes = surface.nodes(&wall.vertices);
+        let depth: Vec<f64> = nodes.iter().map(|p| if p.z > 0.0999 { 1e-4 * (1.0 + 3.0 * p.x + 5.0 * p.y) } else { 0.0 }).collect();
+        let removed: f64 = depth.iter().zip(&surface.node_area).map(|(d, a)| d * a).sum();
+        recede(&surface, &nodes, &depth, true, &mut wall, &mut w).unwrap();
+        let after = surface.cone_volume(&surface.nodes(&wall.vertices), Vec3::from(w.volume_origin));
+        // the enclosed volume is the box's less the removed volume, up to round-off
+        assert!((w.initial_volume.abs() - after.abs() - removed).abs() <= 1e-12 * removed, "{} vs {removed}", w.initial_volume.abs() - after.abs());
+        assert_eq!(wall.revision, 1);
+        // the top moved down (into the box), the bottom stayed
+        let moved = surface.nodes(&wall.vertices);
+        assert!(moved.iter().zip(&nodes).all(|(a, b)| a.z <= b.z + 1e-18));
+        assert!(moved.iter().zip(&nodes).filter(|(_, b)| b.z < 1e-9).all(|(a, b)| a == b));
+    }
+
+    #[test]
+    fn wear_deeper_than_the_triangles_is_refused_and_leaves_the_wall_alone() {
+        let (mut wall, surface, mut w) = closed_box();
+        let before = wall.clone();
+        let nodes = surface.nodes(&wall.vertices);
+        let depth: Vec<f64> = nodes.iter().map(|p| if (p.x - 0.05).abs() < 1e-9 && (p.y - 0.05).abs() < 1e-9 && p.z > 0.0999 { 0.2 } else { 0.0 }).collect();
+        let error = recede(&surface, &nodes, &depth, true, &mut wall, &mut w).unwrap_err();
+        assert!(error.contains("wall `box` would turn inside out"), "{error}");
+        assert_eq!(wall, before);
+    }
 }
