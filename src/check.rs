@@ -206,8 +206,8 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
     for line in particle_lines(&case) {
         println!("{line}");
     }
-    if let Some(wear) = &case.wear {
-        println!("wear         {:?} law: impacts are logged, but wall recession is not modelled yet (the [wear] section is validated only)", wear.law);
+    for line in wear_lines(&case) {
+        println!("{line}");
     }
     if case.mesh.is_some() || case.cutter_head.is_some() {
         println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
@@ -217,6 +217,51 @@ pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
 }
 
 /// DEM sub-step and Stokes numbers, from the smallest and largest particles the case makes.
+/// What `[wear]` will do: the law and the walls, the scaling, the smoothing's length and time,
+/// and what one impact of the fed particles removes, so absurd constants show before a run
+/// (wear-model.md §6.7: the printed constants remove hundreds of particle volumes per impact).
+fn wear_lines(case: &Case) -> Vec<String> {
+    use spillage_model::wear::laws::{ErosionLaw, ImpactInput};
+    let Some(wear) = &case.wear else { return Vec::new() };
+    let walls = if wear.walls.is_empty() { "every wall".to_string() } else { wear.walls.join(", ") };
+    let mut lines = vec![format!(
+        "wear         {:?} on {walls}: deposited volume = law × {} (modifier {} × acceleration {}); walls {}",
+        wear.law,
+        wear.modifier * wear.acceleration,
+        wear.modifier,
+        wear.acceleration,
+        if wear.receding { "recede" } else { "stay (static-boundary mode)" }
+    )];
+    match &wear.smoothing {
+        Some(s) => lines.push(format!(
+            "smoothing    spreading length √(κ/λ) = {:.3e} m, time 1/λ = {:.3e} s (§7.2)",
+            (s.diffusivity / s.damping).sqrt(),
+            1.0 / s.damping
+        )),
+        None => lines.push("smoothing    none: each impact recedes at once from the three corners of its triangle".into()),
+    }
+    let (Ok(law), Some(particles)) = (ErosionLaw::from_section(wear), &case.particles) else { return lines };
+    for feed in &particles.feed {
+        let speed = feed.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let Some(material) = particles.materials.iter().find(|m| m.name == feed.material) else { continue };
+        if speed == 0.0 {
+            continue;
+        }
+        let d = feed.diameter.largest();
+        let volume = std::f64::consts::PI * d.powi(3) / 6.0;
+        let removed =
+            law.removed_volume(&ImpactInput { speed, angle: 30f64.to_radians(), mass: material.density * volume, diameter: d, density: material.density });
+        lines.push(format!(
+            "one impact   d = {d} m at the feed speed {speed:.3} m/s and 30°: {:.3e} m³ = {:.3e} particle volumes (erosion ratio {:.3e}){}",
+            removed.total(),
+            removed.total() / volume,
+            removed.total() * law.wall_density() / (material.density * volume),
+            if removed.total() > volume { "; more than the particle itself: check the hardness units (wear-model.md §6.7)" } else { "" }
+        ));
+    }
+    lines
+}
+
 fn particle_lines(case: &Case) -> Vec<String> {
     use spillage_model::closure::{collision_time, restitution};
     use spillage_model::particles::settings::GroupSection;

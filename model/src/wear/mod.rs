@@ -1,6 +1,7 @@
 //! Erosive wear of the walls (spec wear-model.md): the `[wear]` section, the erosion laws, the
-//! wear surface of a wall (welded nodes, smoothing operators, swept volume) and the wear state.
-//! The stepping (deposit, smooth, recede) is a [`crate::step::WearPhase`] of each solver.
+//! wear surface of a wall (welded nodes, smoothing operators, swept volume), the wear state and
+//! the wear profile. The stepping (deposit, smooth, recede) is a [`crate::step::WearPhase`] of
+//! each solver.
 
 pub mod laws;
 pub mod profile;

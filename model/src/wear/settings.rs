@@ -1,9 +1,14 @@
-//! `[wear]`: which erosion law turns particle–wall impacts into removed wall volume, and the
-//! wall material's constants (spec wear-model.md §6, §8).
+//! `[wear]`: which erosion law turns particle–wall impacts into removed wall volume, the law's
+//! own constants (`[wear.arabnejad]`, `[wear.finnie]`, `[wear.oka]`, `[wear.dnv]`,
+//! `[wear.ecrc]`) and the wall material's constants (spec wear-model.md §6, §8).
+//!
+//! The law-specific checks (which sub-section and which material constants a law reads, and
+//! their ranges) live with the laws in [`super::laws::ErosionLaw::from_section`], which
+//! [`WearSection::validate`] calls: a case that validates always builds its law.
 
 use serde::Deserialize;
 
-use crate::case::error::{in_range, non_negative, positive, FieldError};
+use crate::case::error::{positive, FieldError};
 
 /// Erosion law per impact (wear-model.md §6; Arabnejad is the thesis' law, the others are the
 /// pluggable alternatives of §6.8).
@@ -28,6 +33,32 @@ pub enum AngleFunctionForm {
     Continuous,
 }
 
+/// Mass prefactor of the Arabnejad law (wear-model.md §6.4 switch 2).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MassPrefactor {
+    /// The particle mass m (Eqs. 2.35, 2.37, 2.39): the canonical form.
+    #[default]
+    ParticleMass,
+    /// The particle density ρ_p, as the §2.5 summary prints it (dimensionally inconsistent;
+    /// thesis-literal reproduction only).
+    ParticleDensity,
+}
+
+/// Deformation term of the Arabnejad law (wear-model.md §6.4 switch 3, §13 rows 2–3).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum DeformationForm {
+    /// (max(0, U sinθ − U_tsh))²: Bitter's clip-then-square, the canonical form.
+    #[default]
+    SquaredClipped,
+    /// max(0, (U sinθ − U_tsh)²) as Eq. 2.38 prints it: never clips, so it wears even below the
+    /// threshold speed.
+    LiteralSquare,
+    /// max(0, U sinθ − U_tsh) as the §2.5 summary prints it (no square).
+    LinearClipped,
+}
+
 /// `[wear]`
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -43,9 +74,20 @@ pub struct WearSection {
     /// Real particles per simulated particle (Eq. 4.9).
     #[serde(default = "one")]
     pub modifier: f64,
+    /// Arabnejad cutting angle function (§6.4 switch 4); read by `law = "arabnejad"` only.
     #[serde(default)]
     pub angle_function: AngleFunctionForm,
     pub material: WearMaterial,
+    /// `[wear.arabnejad]`: the other three switches of §6.4 (only with `law = "arabnejad"`).
+    pub arabnejad: Option<ArabnejadSection>,
+    /// `[wear.finnie]` (required with `law = "finnie"`, not allowed otherwise).
+    pub finnie: Option<FinnieSection>,
+    /// `[wear.oka]` (required with `law = "oka"`, not allowed otherwise).
+    pub oka: Option<OkaSection>,
+    /// `[wear.dnv]` (optional with `law = "dnv"`: the steel constants are its defaults).
+    pub dnv: Option<DnvSection>,
+    /// `[wear.ecrc]` (required with `law = "ecrc"`, not allowed otherwise).
+    pub ecrc: Option<EcrcSection>,
     /// Damped diffusive smoothing of the wear field (wear-model.md §7.2–7.3). Without it each
     /// impact's volume recedes at once from the three vertices of the triangle hit.
     pub smoothing: Option<SmoothingSection>,
@@ -83,6 +125,122 @@ pub struct ProfileSection {
     pub bins: usize,
 }
 
+/// `[wear.arabnejad]`: switches 1–3 of wear-model.md §6.4 (switch 4 is the top-level
+/// `angle_function`, kept there for existing cases). Defaults are the canonical form.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub struct ArabnejadSection {
+    /// Multiply the cutting term by C (Eq. 2.35; the printed Eq. 2.39 drops it, §13 row 1).
+    #[serde(default = "yes")]
+    pub include_cutting_coefficient: bool,
+    #[serde(default)]
+    pub mass_prefactor: MassPrefactor,
+    #[serde(default)]
+    pub deformation_form: DeformationForm,
+}
+
+impl Default for ArabnejadSection {
+    fn default() -> Self {
+        Self { include_cutting_coefficient: true, mass_prefactor: MassPrefactor::default(), deformation_form: DeformationForm::default() }
+    }
+}
+
+/// `[wear.finnie]`: Finnie (1960) micro-cutting (wear-model.md §6.1 background, §6.8).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FinnieSection {
+    /// Horizontal flow pressure p of the wall [Pa] (required; no default exists).
+    pub flow_pressure: Option<f64>,
+    /// K, ratio of vertical to horizontal force on the particle (Finnie: ≈ 2).
+    #[serde(default = "two")]
+    pub force_ratio: f64,
+    /// ψ, ratio of contact depth to cut depth (Finnie: ≈ 2).
+    #[serde(default = "two")]
+    pub depth_ratio: f64,
+    /// c, fraction of the particles that cut in the idealised manner, in [0, 1].
+    #[serde(default = "one")]
+    pub cutting_fraction: f64,
+}
+
+/// `[wear.oka]`: Oka & Yoshida (2005) (wear-model.md §6.8, formula from the paper). A constant
+/// left out takes the paper's SiO₂-sand value ([`super::laws::OkaConstants::silica_sand`], the
+/// one place those literature values are written).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OkaSection {
+    /// Wall Vickers hardness Hv in GPa (required; HV number × 9.807e-3).
+    pub vickers_hardness_gpa: Option<f64>,
+    /// K [mm³/kg] (sand: 65).
+    pub k: Option<f64>,
+    /// Hardness exponent of E₉₀ (sand: −0.12).
+    pub k1: Option<f64>,
+    /// Size exponent of E₉₀ (sand: 0.19).
+    pub k3: Option<f64>,
+    /// n₁ = s₁Hv^q₁ (sand: s₁ = 0.71, q₁ = 0.14).
+    pub s1: Option<f64>,
+    pub q1: Option<f64>,
+    /// n₂ = s₂Hv^q₂ (sand: s₂ = 2.4, q₂ = −0.94).
+    pub s2: Option<f64>,
+    pub q2: Option<f64>,
+    /// U' [m/s] (104).
+    pub reference_speed: Option<f64>,
+    /// D' [m] (326 µm).
+    pub reference_diameter: Option<f64>,
+}
+
+/// `[wear.dnv]`: DNV RP-O501 (2007) §3 (wear-model.md §6.8 alternatives). Defaults: steel.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DnvSection {
+    /// K [(m/s)^−n] (steel 2.0e-9).
+    #[serde(default = "dnv_k")]
+    pub k: f64,
+    /// Velocity exponent n (steel 2.6).
+    #[serde(default = "dnv_n")]
+    pub n: f64,
+}
+
+impl Default for DnvSection {
+    fn default() -> Self {
+        Self { k: dnv_k(), n: dnv_n() }
+    }
+}
+
+/// `[wear.ecrc]`: E/CRC (wear-model.md §6.8, Eqs. 2.28–2.29). Defaults: Zhang et al. (2007)
+/// steel. The sharpness F_s is `wear.material.sharpness`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EcrcSection {
+    /// C (steel 2.17e-7).
+    #[serde(default = "ecrc_c")]
+    pub c: f64,
+    /// Velocity exponent n (steel 2.41).
+    #[serde(default = "ecrc_n")]
+    pub n: f64,
+    /// Wall Brinell hardness BH (required).
+    pub brinell_hardness: Option<f64>,
+}
+
+fn two() -> f64 {
+    2.0
+}
+
+fn dnv_k() -> f64 {
+    2.0e-9
+}
+
+fn dnv_n() -> f64 {
+    2.6
+}
+
+fn ecrc_c() -> f64 {
+    2.17e-7
+}
+
+fn ecrc_n() -> f64 {
+    2.41
+}
+
 fn yes() -> bool {
     true
 }
@@ -99,8 +257,9 @@ fn one() -> f64 {
     1.0
 }
 
-/// `[wear.material]`: the eroded wall's constants (wear-model.md §6.5, Table 4.1). Either a
-/// `preset` or every constant.
+/// `[wear.material]`: the eroded wall's constants (wear-model.md §6.5, Table 4.1). The Arabnejad
+/// law needs a `preset` or every constant; the other laws read only `density` (E/CRC also
+/// `sharpness`), from the preset or given.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WearMaterial {
@@ -163,15 +322,28 @@ pub const PRESETS: [(&str, MaterialConstants); 2] = [
 ];
 
 impl WearMaterial {
+    /// The named preset's constants (`None` without a preset).
+    pub fn preset_constants(&self) -> Result<Option<MaterialConstants>, FieldError> {
+        match &self.preset {
+            Some(name) => Ok(Some(PRESETS.iter().find(|(n, _)| n == name).map(|(_, c)| *c).ok_or_else(|| {
+                FieldError::new("wear.material.preset", format!("{name:?}"), format!("one of {}", PRESETS.map(|(n, _)| format!("{n:?}")).join(", ")))
+            })?)),
+            None => Ok(None),
+        }
+    }
+
+    /// ρ_mat: given, or the preset's. All that the laws other than Arabnejad need.
+    pub fn density(&self) -> Result<f64, FieldError> {
+        let base = self.preset_constants()?;
+        self.density
+            .or(base.map(|c| c.density))
+            .ok_or_else(|| FieldError::new("wear.material.density", "(missing)", "a value in kg/m³, or a `preset` that provides it"))
+    }
+
     /// The constants: the preset's, each overridden by a value given in the case; without a
     /// preset every constant must be given.
     pub fn constants(&self) -> Result<MaterialConstants, FieldError> {
-        let base = match &self.preset {
-            Some(name) => Some(PRESETS.iter().find(|(n, _)| n == name).map(|(_, c)| *c).ok_or_else(|| {
-                FieldError::new("wear.material.preset", format!("{name:?}"), format!("one of {}", PRESETS.map(|(n, _)| format!("{n:?}")).join(", ")))
-            })?),
-            None => None,
-        };
+        let base = self.preset_constants()?;
         let pick = |key: &str, given: Option<f64>, from: fn(&MaterialConstants) -> f64| -> Result<f64, FieldError> {
             given
                 .or(base.as_ref().map(from))
@@ -205,14 +377,8 @@ impl WearSection {
             return Err(FieldError::new("wear.acceleration", self.acceleration, "a factor ≥ 1 (T_actual / T_sim, wear-model.md §8)"));
         }
         positive("wear.modifier", self.modifier, "(real particles per simulated one)")?;
-        let c = self.material.constants()?;
-        positive("wear.material.density", c.density, "kg/m³")?;
-        non_negative("wear.material.cutting_coefficient", c.cutting_coefficient, "")?;
-        positive("wear.material.vickers_hardness", c.vickers_hardness, "")?;
-        in_range("wear.material.sharpness", c.sharpness, 0.25, 1.0, "(0.25 rounded … 1 fully sharp, wear-model.md §6.5)")?;
-        positive("wear.material.contact_ratio", c.contact_ratio, "")?;
-        positive("wear.material.deformation_factor", c.deformation_factor, "")?;
-        non_negative("wear.material.threshold_velocity", c.threshold_velocity, "m/s")?;
+        // The law's sub-section, the material constants it reads and their ranges.
+        super::laws::ErosionLaw::from_section(self)?;
         if let Some(sm) = &self.smoothing {
             positive("wear.smoothing.diffusivity", sm.diffusivity, "m²/s")?;
             positive("wear.smoothing.damping", sm.damping, "1/s (spreading time 1/λ)")?;
