@@ -4,6 +4,14 @@ use serde::Deserialize;
 
 use super::error::{positive, FieldError};
 
+/// A solid block of a box mesh: `{ min = [..], max = [..] }`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SolidBlock {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
 /// `[mesh]`, selected by `generator = "box" | "annulus" | "rotor_stator"`.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(tag = "generator", rename_all = "snake_case", deny_unknown_fields)]
@@ -22,6 +30,9 @@ pub enum MeshSection {
         /// One cell thick in z with `empty` front and back: a 2-D mesh.
         #[serde(default)]
         two_d: bool,
+        /// Solid blocks removed from the box; their faces form the patch `solid`.
+        #[serde(default)]
+        solids: Vec<SolidBlock>,
     },
     /// Cylindrical annulus about the z axis.
     Annulus {
@@ -79,7 +90,18 @@ fn count(key: &str, n: usize, min: usize) -> Result<(), FieldError> {
 impl MeshSection {
     pub fn validate(&self) -> Result<(), FieldError> {
         match self {
-            MeshSection::Box { min, max, cells, grading, periodic, two_d } => {
+            MeshSection::Box { min, max, cells, grading, periodic, two_d, solids } => {
+                for (i, b) in solids.iter().enumerate() {
+                    for (d, axis) in ["x", "y", "z"].iter().enumerate() {
+                        if !(b.min[d].is_finite() && b.max[d].is_finite() && b.max[d] > b.min[d]) {
+                            return Err(FieldError::new(
+                                format!("mesh.solids.{i}.max"),
+                                format!("{:?} (min = {:?})", b.max, b.min),
+                                format!("max.{axis} > min.{axis}, both finite"),
+                            ));
+                        }
+                    }
+                }
                 for (d, axis) in ["x", "y", "z"].iter().enumerate() {
                     if !(min[d].is_finite() && max[d].is_finite() && max[d] > min[d]) {
                         return Err(FieldError::new("mesh.max", format!("{max:?} (min = {min:?})"), format!("max.{axis} > min.{axis}, both finite")));

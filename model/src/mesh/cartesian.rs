@@ -9,7 +9,9 @@ use super::{Locator, Mesh, MeshError, PatchKind, Vec3};
 /// z_min, z_max` (kind [`PatchKind::Patch`]; change with [`Mesh::set_patch_kind`], e.g. z_min
 /// and z_max `Empty` for a one-cell-thick 2-D mesh), except in periodic directions, whose
 /// faces become internal faces of a [`super::PeriodicPair`] named "x", "y" or "z". All cells
-/// form one non-rotating zone "fluid".
+/// form one non-rotating zone "fluid". With `solids`, the cells inside them are left out and the
+/// faces next to them form a patch `solid`; cells are then numbered in the same order with the
+/// solid ones skipped.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BoxSpec {
     pub min: Vec3,
@@ -20,12 +22,16 @@ pub struct BoxSpec {
     pub grading: [f64; 3],
     /// Periodic directions need at least 3 cells (so no two cells share two faces).
     pub periodic: [bool; 3],
+    /// Solid boxes (min, max): cells whose centre lies inside one are removed; the faces they
+    /// leave exposed form the patch `solid` (a backward-facing step, a block in a channel).
+    #[serde(default)]
+    pub solids: Vec<(Vec3, Vec3)>,
 }
 
 impl BoxSpec {
     /// Uniform, non-periodic box.
     pub fn uniform(min: Vec3, max: Vec3, cells: [usize; 3]) -> Self {
-        BoxSpec { min, max, cells, grading: [1.0; 3], periodic: [false; 3] }
+        BoxSpec { min, max, cells, grading: [1.0; 3], periodic: [false; 3], solids: Vec::new() }
     }
 }
 
@@ -93,7 +99,7 @@ impl Mesh {
                 }
             }
         }
-        let mut cells = Vec::with_capacity(nx * ny * nz);
+        let mut cells: Vec<[usize; 8]> = Vec::with_capacity(nx * ny * nz);
         for k in 0..nz {
             for j in 0..ny {
                 for i in 0..nx {
@@ -126,6 +132,37 @@ impl Mesh {
                 }
             }
         }
+        // slots (i, j, k) whose centre is inside a solid hold no cell
+        let centre = |d: usize, index: usize| 0.5 * (edges[d][index] + edges[d][index + 1]);
+        let mut slot_of_cell = Vec::with_capacity(cells.len());
+        let mut cell_of_slot = Vec::new();
+        if !spec.solids.is_empty() {
+            for (d, (lo, hi)) in spec.solids.iter().enumerate() {
+                if !(0..3).all(|a| lo[a].is_finite() && hi[a].is_finite() && lo[a] < hi[a]) {
+                    return Err(MeshError::input(&format!("box.solids.{d}"), format!("{lo:?} … {hi:?}"), "need finite min < max in every direction"));
+                }
+            }
+            cell_of_slot = vec![None; cells.len()];
+            for k in 0..nz {
+                for j in 0..ny {
+                    for i in 0..nx {
+                        let c = Vec3::new(centre(0, i), centre(1, j), centre(2, k));
+                        let solid = spec.solids.iter().any(|(lo, hi)| (0..3).all(|a| c[a] > lo[a] && c[a] < hi[a]));
+                        if !solid {
+                            let slot = i + nx * (j + ny * k);
+                            cell_of_slot[slot] = Some(slot_of_cell.len());
+                            slot_of_cell.push(slot);
+                        }
+                    }
+                }
+            }
+            if slot_of_cell.is_empty() {
+                return Err(MeshError::input("box.solids", spec.solids.len(), "solids that leave at least one cell open"));
+            }
+            cells = slot_of_cell.iter().map(|&slot| cells[slot]).collect();
+            patches.push(("solid".to_string(), PatchKind::Patch));
+        }
+        let solid_patch = patches.len().wrapping_sub(1);
         let n_cells = cells.len();
         let input = HexCells {
             points,
@@ -134,11 +171,24 @@ impl Mesh {
             patches,
             periodic,
             zones: vec![ZoneInput { name: "fluid".to_string(), cells: (0..n_cells).collect(), rotation: None }],
-            locator: Locator::Box { edges },
+            locator: Locator::Box { edges, cell_of_slot },
         };
-        assemble(input, |cell, local| match patch_of_local[local] {
-            usize::MAX => Err(MeshError::Topology(format!("cell {cell} face {local} lies on a periodic side but found no partner"))),
-            patch => Ok(patch),
+        let n = spec.cells;
+        assemble(input, |cell, local| {
+            if !slot_of_cell.is_empty() {
+                // a face inside the box next to a removed cell is a solid face
+                let slot = slot_of_cell[cell];
+                let index = [slot % n[0], (slot / n[0]) % n[1], slot / (n[0] * n[1])];
+                let (d, side) = (local / 2, local % 2);
+                let on_box_side = if side == 0 { index[d] == 0 } else { index[d] == n[d] - 1 };
+                if !on_box_side {
+                    return Ok(solid_patch);
+                }
+            }
+            match patch_of_local[local] {
+                usize::MAX => Err(MeshError::Topology(format!("cell {cell} face {local} lies on a periodic side but found no partner"))),
+                patch => Ok(patch),
+            }
         })
     }
 }
@@ -149,7 +199,35 @@ mod tests {
     use crate::mesh::test_support::*;
 
     fn graded_box() -> BoxSpec {
-        BoxSpec { min: Vec3::new(-1.0, 0.5, 2.0), max: Vec3::new(2.0, 1.7, 2.9), cells: [5, 4, 3], grading: [3.0, 0.25, 1.0], periodic: [false; 3] }
+        BoxSpec {
+            min: Vec3::new(-1.0, 0.5, 2.0),
+            max: Vec3::new(2.0, 1.7, 2.9),
+            cells: [5, 4, 3],
+            grading: [3.0, 0.25, 1.0],
+            periodic: [false; 3],
+            solids: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_solid_step_is_cut_out_and_its_exposed_faces_form_the_solid_patch() {
+        // a backward-facing step: the block x < 0.4, y < 0.25 of a unit box, 10 × 4 × 2 cells
+        let spec = BoxSpec {
+            solids: vec![(Vec3::new(-1.0, -1.0, -1.0), Vec3::new(0.4, 0.25, 2.0))],
+            ..BoxSpec::uniform(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0), [10, 4, 2])
+        };
+        let mesh = Mesh::cartesian_box(&spec).unwrap();
+        assert_eq!(mesh.n_cells(), 80 - 4 * 2);
+        let total: f64 = mesh.cell_volumes.iter().sum();
+        // round-off of ~70 summed products of O(0.1) numbers
+        assert!((total - (1.0 - 0.4 * 0.25)).abs() < 1e-14, "{total}");
+        let solid = mesh.patches.iter().find(|p| p.name == "solid").expect("a solid patch");
+        let area: f64 = solid.faces().map(|f| mesh.face_areas[f].norm()).sum();
+        // the step's top (0.4 × 1) and its face (0.25 × 1)
+        assert!((area - 0.65).abs() < 1e-14, "{area}");
+        assert_eq!(mesh.locate(&Vec3::new(0.1, 0.1, 0.5)), None);
+        let c = mesh.locate(&Vec3::new(0.45, 0.1, 0.5)).unwrap();
+        assert!(mesh.contains(c, &Vec3::new(0.45, 0.1, 0.5)));
     }
 
     #[test]
@@ -219,7 +297,14 @@ mod tests {
 
     #[test]
     fn fully_periodic_box_has_six_internal_faces_per_cell() {
-        let spec = BoxSpec { min: Vec3::new(0.0, 0.0, 0.0), max: Vec3::new(2.0, 3.0, 0.5), cells: [4, 3, 5], grading: [1.0, 2.0, 1.0], periodic: [true; 3] };
+        let spec = BoxSpec {
+            min: Vec3::new(0.0, 0.0, 0.0),
+            max: Vec3::new(2.0, 3.0, 0.5),
+            cells: [4, 3, 5],
+            grading: [1.0, 2.0, 1.0],
+            periodic: [true; 3],
+            solids: Vec::new(),
+        };
         let mesh = Mesh::cartesian_box(&spec).unwrap();
         assert!(mesh.patches.is_empty());
         assert_eq!(mesh.n_faces(), mesh.n_internal_faces);

@@ -17,13 +17,14 @@ pub fn for_case(case: &crate::case::Case) -> Option<Result<Mesh, MeshError>> {
 /// Runs the generator named in the case and marks the front and back of 2-D meshes `Empty`.
 pub fn build(section: &MeshSection) -> Result<Mesh, MeshError> {
     let (mut mesh, two_d) = match section {
-        MeshSection::Box { min, max, cells, grading, periodic, two_d } => {
+        MeshSection::Box { min, max, cells, grading, periodic, two_d, solids } => {
             let spec = BoxSpec {
                 min: Vec3::from(*min),
                 max: Vec3::from(*max),
                 cells: *cells,
                 grading: *grading,
                 periodic: ["x", "y", "z"].map(|axis| periodic.iter().any(|p| p == axis)),
+                solids: solids.iter().map(|b| (Vec3::from(b.min), Vec3::from(b.max))).collect(),
             };
             (Mesh::cartesian_box(&spec)?, *two_d)
         }

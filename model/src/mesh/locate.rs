@@ -35,9 +35,12 @@ pub struct CylinderBlock {
 pub enum Locator {
     /// No index map: brute-force search.
     None,
-    /// Axis-aligned box; cell `i + n_x (j + n_y k)` spans `edges[d][index..=index+1]`.
+    /// Axis-aligned box; slot `i + n_x (j + n_y k)` spans `edges[d][index..=index+1]` and is
+    /// that cell, or with solids `cell_of_slot[slot]` (`None`: solid, outside the mesh).
     Box {
         edges: [Vec<f64>; 3],
+        #[serde(default)]
+        cell_of_slot: Vec<Option<usize>>,
     },
     Cylindrical {
         blocks: Vec<CylinderBlock>,
@@ -73,12 +76,17 @@ impl Mesh {
     pub fn locate(&self, point: &Vec3) -> Option<usize> {
         match &self.locator {
             Locator::None => (0..self.n_cells()).find(|&c| self.contains(c, point)),
-            Locator::Box { edges } => {
+            Locator::Box { edges, cell_of_slot } => {
                 let i = interval(&edges[0], point.x)?;
                 let j = interval(&edges[1], point.y)?;
                 let k = interval(&edges[2], point.z)?;
                 let (nx, ny) = (edges[0].len() - 1, edges[1].len() - 1);
-                Some(i + nx * (j + ny * k))
+                let slot = i + nx * (j + ny * k);
+                if cell_of_slot.is_empty() {
+                    Some(slot)
+                } else {
+                    cell_of_slot[slot]
+                }
             }
             Locator::Cylindrical { blocks } => blocks.iter().find_map(|block| self.locate_in_block(block, point)),
         }

@@ -66,7 +66,7 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     /// A cutter head's geometry and hull faces (spillage bookkeeping, hull fluxes).
     head: Option<(CutterHead, HullFaces)>,
     /// The wear phase (`[wear]`, set by [`Coupled::with_wear`]) and whether the case asks for one.
-    wear: Option<Box<dyn WearPhase>>,
+    wear: Option<Box<dyn WearPhase + Send>>,
     wear_in_case: bool,
     label: &'static str,
 }
@@ -178,7 +178,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
 
     /// Adds the wear phase of a `[wear]` case (the state must hold the wear state it advances,
     /// which the phase's constructor sets up).
-    pub fn with_wear(mut self, wear: Box<dyn WearPhase>) -> Result<Self, SolverError> {
+    pub fn with_wear(mut self, wear: Box<dyn WearPhase + Send>) -> Result<Self, SolverError> {
         if !self.wear_in_case {
             return Err(unsupported("a wear phase was given, but the case has no [wear] section"));
         }
