@@ -7,6 +7,7 @@ use std::path::Path;
 
 use anyhow::{anyhow, bail, Context, Result};
 use spillage_analytic::erosion::{arabnejad_wear, AngleFunction, ArabnejadMaterial, ArabnejadOptions};
+use spillage_fast::fluid::FastFluid;
 use spillage_model::case::Case;
 use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::solver::Solver;
@@ -21,11 +22,12 @@ use spillage_reference::wear::ReferenceWear;
 use super::CheckRow;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["wear_stream"];
+pub const CHECKS: &[&str] = &["wear_stream", "wear_profile"];
 
 pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
         "wear_stream" => stream(case, full, plots),
+        "wear_profile" => profile(case, full, plots),
         other => bail!("unknown wear check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -47,13 +49,22 @@ fn numbers(case: &Case, key: &str) -> Result<Vec<f64>> {
     array.iter().map(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).ok_or_else(|| anyhow!("verify.params.{key}: {v} is not a number"))).collect()
 }
 
-/// Runs a particle-only wear case to its end time with the reference DEM and wear phase.
+/// Runs a wear case to its end time with the reference DEM and wear phase (and the fast fluid
+/// when the case has one).
 pub fn run_to_end(case: &Case) -> Result<State> {
     let mut state = State::default();
-    let dem = ReferenceDem::new(case, &mut state)?;
-    let wear = ReferenceWear::new(case, &mut state)?;
-    let mut run = Coupled::particles_only(case, state, dem)?.with_wear(Box::new(wear))?;
     let end = case.time.end_time.ok_or_else(|| anyhow!("{}: wear checks need [time] end_time", case.path.display()))?;
+    let mut run: Box<dyn Solver> = if case.fluid.is_some() {
+        let mesh = super::fluid::build_mesh(case)?;
+        let fluid = FastFluid::new(case, mesh, &mut state)?;
+        let dem = ReferenceDem::new(case, &mut state)?;
+        let wear = ReferenceWear::new(case, &mut state)?;
+        Box::new(Coupled::new(case, state, Some(fluid), Some(dem))?.with_wear(Box::new(wear))?)
+    } else {
+        let dem = ReferenceDem::new(case, &mut state)?;
+        let wear = ReferenceWear::new(case, &mut state)?;
+        Box::new(Coupled::particles_only(case, state, dem)?.with_wear(Box::new(wear))?)
+    };
     while !reached_end_time(run.state().time, end) {
         run.step().with_context(|| format!("case {}", case.case.name))?;
     }
@@ -197,4 +208,109 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
         1e-9,
     ));
     Ok(rows)
+}
+
+/// The wear profile of a case with `[wear.profile]` (the Coriolis tester, §12.4): its largest
+/// peak `first_peak` m from the profile's start within `first_peak_tolerance`, then a dip and a
+/// second region whose peak is `second_ratio[0]`…`[1]` of the first; with the bookkeeping rows.
+/// The coarse level runs `coarse_end_time` with the feed thinned by `coarse_modifier` (each
+/// particle then stands for that many, `[wear] modifier`).
+fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let mut case = base.clone();
+    if !full {
+        case.time.end_time = Some(number(base, "coarse_end_time")?);
+        let thinning = number(base, "coarse_modifier")?;
+        for feed in case.particles.as_mut().map(|p| p.feed.iter_mut()).into_iter().flatten() {
+            feed.rate /= thinning;
+        }
+        if let Some(w) = case.wear.as_mut() {
+            w.modifier *= thinning;
+        }
+    }
+    let section = case.wear.clone().ok_or_else(|| anyhow!("{}: the wear checks need [wear]", base.path.display()))?;
+    let line = section.profile.clone().ok_or_else(|| anyhow!("{}: wear_profile needs [wear.profile]", base.path.display()))?;
+    let state = run_to_end(&case)?;
+    let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
+    let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
+    let pairs: Vec<_> = wear.walls.iter().map(|w| (&walls.walls[w.wall], w)).collect();
+    let bins = spillage_model::wear::profile::wear_profile(&line, &pairs);
+    let depth: Vec<(f64, f64)> = bins.iter().filter(|b| b.area > 0.0).map(|b| (b.distance, b.depth)).collect();
+    let peaks = profile_peaks(&depth);
+    let mut rows = Vec::new();
+    let impacts: u64 = wear.walls.iter().flat_map(|w| &w.triangle_impacts).sum();
+    rows.push(CheckRow::at_least(name, "impacts on the eroding walls", SOLVER, impacts as f64, number(base, "min_impacts")?));
+    rows.push(CheckRow::absolute(
+        name,
+        "distance of the deepest wear from the profile start [m]",
+        SOLVER,
+        peaks.first.0,
+        number(base, "first_peak")?,
+        number(base, "first_peak_tolerance")?,
+    ));
+    let ratio = numbers(base, "second_ratio")?;
+    let (lo, hi) = (ratio[0], ratio[1]);
+    rows.push(CheckRow::absolute(
+        name,
+        "second wear region: its peak over the first (after a dip; NaN without one)",
+        SOLVER,
+        peaks.second_ratio,
+        0.5 * (lo + hi),
+        0.5 * (hi - lo),
+    ));
+    let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
+    let receded: f64 = wear.walls.iter().map(|w| w.receded + w.pending).sum();
+    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
+    let unworn = spillage_model::walls::build(&case, &dir)?;
+    let damping = section.smoothing.as_ref().map(|s| s.damping);
+    let mut in_flight = 0.0;
+    for w in &wear.walls {
+        let before = &unworn.walls[w.wall];
+        in_flight += w.in_flight(&WearSurface::new(&before.vertices, &before.triangles).node_area, damping);
+    }
+    rows.push(CheckRow::relative(name, "receded + still smoothing vs deposited (relative; §7.3 identity)", SOLVER, receded + in_flight, deposited, 1e-12));
+    if let Some(dir) = plots {
+        std::fs::create_dir_all(dir)?;
+        let top = peaks.first.1.max(f64::MIN_POSITIVE);
+        let normalised: Vec<(f64, f64)> = depth.iter().map(|(x, d)| (1e3 * x, d / top)).collect();
+        let first = number(base, "first_peak")?;
+        let expected = vec![(1e3 * first, 0.0), (1e3 * first, 1.0)];
+        let title = format!("{name}: wear depth along the coupon (t = {:.4} s), normalised by its peak", state.time);
+        write_png(
+            &Plot {
+                title: &title,
+                x_label: "distance from the step [mm]",
+                y_label: "depth / peak depth [-]",
+                log_x: false,
+                log_y: false,
+                series: vec![Series { label: "simulated", points: &normalised }, Series { label: "thesis' first peak (≈ 10 mm)", points: &expected }],
+            },
+            &dir.join(format!("{name}_profile.png")),
+        )?;
+    }
+    Ok(rows)
+}
+
+/// The largest peak of a profile and the ratio of the largest peak downstream of it, beyond
+/// the deepest dip that follows, to it; NaN when the profile never rises again by a quarter
+/// above that dip (a single wear region).
+struct Peaks {
+    first: (f64, f64),
+    second_ratio: f64,
+}
+
+fn profile_peaks(profile: &[(f64, f64)]) -> Peaks {
+    let Some((k, &first)) = profile.iter().enumerate().max_by(|a, b| a.1 .1.total_cmp(&b.1 .1)) else {
+        return Peaks { first: (f64::NAN, f64::NAN), second_ratio: f64::NAN };
+    };
+    let after = &profile[k..];
+    // the deepest dip that has a rise after it: scan for the best (rise over the dip)
+    let mut best: Option<(f64, f64)> = None;
+    for (i, dip) in after.iter().enumerate() {
+        let Some(rise) = after[i..].iter().map(|p| p.1).reduce(f64::max) else { continue };
+        if rise > 1.25 * dip.1 && rise > 0.0 && best.is_none_or(|(_, r)| rise > r) {
+            best = Some((dip.1, rise));
+        }
+    }
+    Peaks { first, second_ratio: best.map_or(f64::NAN, |(_, rise)| rise / first.1) }
 }

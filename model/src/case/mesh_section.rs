@@ -165,13 +165,16 @@ impl MeshSection {
     pub fn boundary_patches(&self) -> Vec<String> {
         let mut names = Vec::new();
         match self {
-            MeshSection::Box { periodic, two_d, .. } => {
+            MeshSection::Box { periodic, two_d, solids, .. } => {
                 for axis in ["x", "y", "z"] {
                     if periodic.iter().any(|p| p == axis) || (*two_d && axis == "z") {
                         continue;
                     }
                     names.push(format!("{axis}_min"));
                     names.push(format!("{axis}_max"));
+                }
+                if !solids.is_empty() {
+                    names.push("solid".to_string());
                 }
             }
             MeshSection::Annulus { two_d, .. } | MeshSection::RotorStator { two_d, .. } => {
