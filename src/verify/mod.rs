@@ -8,6 +8,7 @@ pub mod coupling;
 pub mod cutter_head;
 pub mod dem;
 pub mod fluid;
+pub mod rotating_frame;
 
 use std::path::{Path, PathBuf};
 
@@ -100,6 +101,9 @@ fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyho
     if cutter_head::CHECKS.contains(&check) {
         return cutter_head::run_check(case, check, full);
     }
+    if rotating_frame::CHECKS.contains(&check) {
+        return rotating_frame::run_check(case, check, full);
+    }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
@@ -110,6 +114,7 @@ pub fn known_checks() -> Vec<&'static str> {
     checks.extend_from_slice(fluid::CHECKS);
     checks.extend_from_slice(coupling::CHECKS);
     checks.extend_from_slice(cutter_head::CHECKS);
+    checks.extend_from_slice(rotating_frame::CHECKS);
     checks
 }
 
