@@ -50,6 +50,12 @@ fn fluid_at_rest() {
     check("fluid_at_rest.toml");
 }
 
+/// (b) The same in a closed annulus about the axis: the pressure error is second order in Δr.
+#[test]
+fn fluid_at_rest_annulus() {
+    check("fluid_at_rest_annulus.toml");
+}
+
 /// (c) Fast vs reference fluid ≤ 1e-8 at every step with the Coriolis force acting.
 #[test]
 fn fast_fluid_matches_the_reference_fluid_with_coriolis() {
