@@ -268,9 +268,9 @@ fn at_rest(case: &Case, label: &str) -> Result<AtRest> {
     // pressure differences against the innermost cell, p = ρP
     let range = centrifugal_pressure_difference(density, speed, r_max, r_min)?;
     let mut worst = 0.0f64;
-    for c in 0..centres.len() {
-        let exact = centrifugal_pressure_difference(density, speed, radii[c], r_min)?;
-        worst = worst.max((density * (fluid.pressure[c] - fluid.pressure[inner]) - exact).abs() / range);
+    for (&r, &pressure) in radii.iter().zip(&fluid.pressure) {
+        let exact = centrifugal_pressure_difference(density, speed, r, r_min)?;
+        worst = worst.max((density * (pressure - fluid.pressure[inner]) - exact).abs() / range);
     }
     Ok(AtRest { velocity: u_max / (speed * r_max), pressure: worst, across: (density * (fluid.pressure[outer] - fluid.pressure[inner]), range) })
 }
