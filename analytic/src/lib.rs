@@ -18,6 +18,9 @@
 //! - [`erosion`]: erosion per impact (Arabnejad, Finnie, Oka, DNV, E/CRC).
 //! - [`sliding_interface`]: conservative 1-D / periodic face-overlap mapping.
 //! - [`channel_flows`]: Poiseuille/Couette channel, Taylor–Green vortex, hydrostatics.
+//! - [`rotating_frame`]: the Coriolis tester's rotation (A39), a free particle seen from a
+//!   rotating frame (A40), a sphere drifting out through fluid at rest in the frame, and the
+//!   centrifugal pressure of fluid at rest in the frame.
 //! - helpers: [`roots`], [`ode`], [`special`], [`error`].
 
 // Input checks are written `!(x > 0.0)` on purpose so that NaN is rejected too.
@@ -34,6 +37,7 @@ pub mod oblique_impact;
 pub mod ode;
 pub mod restitution;
 pub mod roots;
+pub mod rotating_frame;
 pub mod settling;
 pub mod sliding_interface;
 pub mod special;

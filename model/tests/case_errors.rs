@@ -85,6 +85,28 @@ fn bad_inputs() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("zero rotor axis", format!("{GOOD}\n[rotor]\nomega = 1.0\naxis = [0.0, 0.0, 0.0]\n"), vec!["rotor.axis", "non-zero"]),
         ("fluid without mesh", GOOD.split("[mesh]").next().unwrap().to_string(), vec!["mesh", "needs a mesh"]),
         ("gravity with nan", format!("[physics]\ngravity = [0.0, nan, -9.81]\n{GOOD}"), vec!["physics.gravity", "finite", "cases/bad.toml:2:"]),
+        (
+            "zero rotating-frame axis",
+            format!("[physics.rotating_frame]\nomega = 1.0\naxis = [0.0, 0.0, 0.0]\n{GOOD}"),
+            vec!["physics.rotating_frame.axis", "non-zero", "cases/bad.toml:3:"],
+        ),
+        (
+            "nan rotating-frame omega",
+            format!("[physics.rotating_frame]\nomega = nan\n{GOOD}"),
+            vec!["physics.rotating_frame.omega", "finite", "cases/bad.toml:2:"],
+        ),
+        ("rotating frame without omega", format!("[physics.rotating_frame]\naxis = [0.0, 0.0, 1.0]\n{GOOD}"), vec!["omega", "missing"]),
+        ("rotating frame with rpm", format!("[physics.rotating_frame]\nomega = 1.0\nrpm = 3000.0\n{GOOD}"), vec!["rpm", "unknown field"]),
+        (
+            "rotating-frame origin with inf",
+            format!("[physics.rotating_frame]\nomega = 1.0\norigin = [0.0, inf, 0.0]\n{GOOD}"),
+            vec!["physics.rotating_frame.origin", "finite"],
+        ),
+        (
+            "rotating-frame axis in a 2-D plane",
+            format!("[physics.rotating_frame]\nomega = 1.0\naxis = [0.0, 1.0, 1.0]\n{GOOD}"),
+            vec!["physics.rotating_frame.axis", "2-D mesh", "cases/bad.toml:3:"],
+        ),
     ]
 }
 

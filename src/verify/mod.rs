@@ -9,6 +9,7 @@ pub mod cutter_head;
 pub mod dem;
 pub mod fluid;
 pub mod wear;
+pub mod rotating_frame;
 
 use std::path::{Path, PathBuf};
 
@@ -104,6 +105,9 @@ fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyho
     if wear::CHECKS.contains(&check) {
         return wear::run_check(case, check, full, plots);
     }
+    if rotating_frame::CHECKS.contains(&check) {
+        return rotating_frame::run_check(case, check, full);
+    }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
@@ -115,6 +119,7 @@ pub fn known_checks() -> Vec<&'static str> {
     checks.extend_from_slice(coupling::CHECKS);
     checks.extend_from_slice(cutter_head::CHECKS);
     checks.extend_from_slice(wear::CHECKS);
+    checks.extend_from_slice(rotating_frame::CHECKS);
     checks
 }
 

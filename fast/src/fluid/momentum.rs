@@ -3,6 +3,7 @@
 //! gathered per cell in ascending link order, and the predictor solve M u = b − V∇P* for every
 //! solved component (Jacobi-BiCGStab).
 
+use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::fluid::conditions::Condition;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
@@ -39,6 +40,11 @@ pub struct MomentumInputs<'a> {
     pub nu: f64,
     /// Kinematic body force (gravity + `[numerics] body_force`) [m/s²].
     pub body_force: Vec3,
+    /// The case's rotating frame, if any, and the cell centres it is evaluated at: the source
+    /// gets α_c(−2Ω×u* − Ω×(Ω×(x_c − x₀)))V, Coriolis in the latest outer iterate u*, as in the
+    /// reference (`spillage_reference::fluid::momentum` doc, wear-model.md §2.6 [R]).
+    pub rotating_frame: Option<&'a RotatingFrame>,
+    pub cell_centres: &'a [Vec3],
     /// Latest velocity u*, and uᵒ, uᵒᵒ (old levels in the source), by component.
     pub velocity: &'a [Vec<f64>; 3],
     pub velocity_old: &'a [Vec<f64>; 3],
@@ -57,6 +63,7 @@ pub struct MomentumInputs<'a> {
 pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficients, system: &mut MomentumSystem) {
     let StepConstants { disc, time, alpha, numerics, particles } = inputs.step;
     let (nu, body_force) = (inputs.nu, inputs.body_force);
+    let (rotating_frame, cell_centres) = (inputs.rotating_frame, inputs.cell_centres);
     let links = disc.links;
     let (velocity, gradient) = (inputs.velocity, inputs.velocity_gradient);
     {
@@ -101,6 +108,9 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
         let mut diag = c0 * alpha.current[c] * v / dt;
         let mut source = -(vec_of(velocity_old, c) * (c1 * alpha.old[c]) + vec_of(velocity_old_old, c) * (c2 * alpha.old_old[c])) * (v / dt);
         source += body_force * v;
+        if let Some(frame) = rotating_frame {
+            source += frame.fictitious_acceleration(vec_of(velocity, c), cell_centres[c]) * (alpha.current[c] * v);
+        }
         if let Some(particles) = particles {
             diag += particles.implicit_drag[c];
             source += particles.explicit_force[c];

@@ -11,6 +11,7 @@
 //! 5. [`diagnostics::step_diagnostics`], [`finish_step`]: state update and report.
 
 use spillage_model::case::Case;
+use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::conditions::Conditions;
 use spillage_model::fluid::initial::prepare_fluid_state;
@@ -57,6 +58,8 @@ pub struct FastFluid {
     density: f64,
     /// Kinematic body force (gravity + `[numerics] body_force`) [m/s²].
     body_force: Vec3,
+    /// The case's rotating frame (wear-model.md §2.6), if any.
+    rotating_frame: Option<RotatingFrame>,
     rotor: Option<Rotor>,
     /// Axis frame of the sliding interfaces (the rotating zone's rotation).
     frame: Option<Frame>,
@@ -100,6 +103,7 @@ impl FastFluid {
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let body_force = numerics.kinematic_body_force(case.physics.gravity);
+        let rotating_frame = RotatingFrame::of_physics(&case.physics).map_err(|e| unsupported(format!("`{}` = {}: expected {}", e.key, e.value, e.allowed)))?;
         let frame = mesh.rotating_zone_axis().map(|(axis, origin)| Frame::new(origin, axis));
         let rotor = Rotor::from_case(case, &mesh).map_err(unsupported)?;
         let has_interface_patch = mesh.patches.iter().any(|p| matches!(p.kind, PatchKind::Interface { .. }));
@@ -141,6 +145,7 @@ impl FastFluid {
             nu: fluid.kinematic_viscosity,
             density: fluid.density,
             body_force,
+            rotating_frame,
             rotor,
             frame,
             dt: 0.0,
@@ -301,6 +306,8 @@ impl FastFluid {
                 step,
                 nu: self.nu,
                 body_force: self.body_force,
+                rotating_frame: self.rotating_frame.as_ref(),
+                cell_centres: &self.mesh.cell_centres,
                 velocity: &b.velocity,
                 velocity_old: &b.velocity_old,
                 velocity_old_old: &b.velocity_old_old,

@@ -88,6 +88,13 @@ fn count(key: &str, n: usize, min: usize) -> Result<(), FieldError> {
 }
 
 impl MeshSection {
+    /// Whether the mesh is one cell thick in z with `empty` front and back (`two_d = true`).
+    pub fn is_two_d(&self) -> bool {
+        match self {
+            MeshSection::Box { two_d, .. } | MeshSection::Annulus { two_d, .. } | MeshSection::RotorStator { two_d, .. } => *two_d,
+        }
+    }
+
     pub fn validate(&self) -> Result<(), FieldError> {
         match self {
             MeshSection::Box { min, max, cells, grading, periodic, two_d, solids } => {

@@ -17,7 +17,7 @@ use serde::Deserialize;
 
 pub use error::{CaseError, CaseErrorKind, FieldError};
 pub use mesh_section::MeshSection;
-pub use sections::{CaseInfo, OutputSection, Physics, RotorSection, TimeControl, VerifySection};
+pub use sections::{CaseInfo, OutputSection, Physics, RotatingFrameSection, RotorSection, TimeControl, VerifySection};
 
 use crate::fluid::settings::{BoundaryCondition, FluidSection, NumericsSection};
 use crate::particles::settings::ParticlesSection;
@@ -207,6 +207,19 @@ impl Case {
                 && self.rotor.as_ref().is_none_or(|r| r.axis[0] != 0.0 || r.axis[1] != 0.0)
             {
                 return Err(FieldError::new("fluid.initial.type", "\"solid_body\"", "a solid-body start only with a [rotor] turning about z"));
+            }
+        }
+        if let (Some(frame), Some(mesh)) = (&self.physics.rotating_frame, &self.mesh) {
+            // A 2-D mesh solves no velocity along z: with the axis along z every fictitious force
+            // (Ω×u, Ω×(Ω×r), both ⊥ Ω) lies in the plane; with any other axis a 2-D run would drop
+            // part of them without saying so.
+            let [ax, ay, _] = frame.axis;
+            if mesh.is_two_d() && (ax != 0.0 || ay != 0.0) {
+                return Err(FieldError::new(
+                    "physics.rotating_frame.axis",
+                    format!("{:?}", frame.axis),
+                    "[0, 0, ±1] with a 2-D mesh (mesh.two_d = true solves no velocity along z)",
+                ));
             }
         }
         let has_mesh = self.mesh.is_some() || self.cutter_head.is_some();

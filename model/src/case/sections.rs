@@ -21,11 +21,14 @@ pub struct Physics {
     /// Gravitational acceleration [m/s²].
     #[serde(default = "Physics::default_gravity")]
     pub gravity: [f64; 3],
+    /// The whole case is written in a frame rotating rigidly at Ω (wear-model.md §2.6, the
+    /// Coriolis tester); absent = an inertial frame.
+    pub rotating_frame: Option<RotatingFrameSection>,
 }
 
 impl Default for Physics {
     fn default() -> Self {
-        Self { gravity: Self::default_gravity() }
+        Self { gravity: Self::default_gravity(), rotating_frame: None }
     }
 }
 
@@ -34,7 +37,53 @@ impl Physics {
         [0.0, 0.0, -9.81]
     }
     pub fn validate(&self) -> Result<(), FieldError> {
-        finite_vector("physics.gravity", self.gravity)
+        finite_vector("physics.gravity", self.gravity)?;
+        if let Some(frame) = &self.rotating_frame {
+            frame.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// `[physics.rotating_frame]`: the case's coordinates, velocities and walls are those seen from a
+/// frame turning at the constant angular velocity Ω = `omega` · `axis`/|`axis`| about the line
+/// through `origin` (wear-model.md §2.6 [R]; the fictitious forces are
+/// [`crate::closure::rotating_frame`]). Not to be confused with `[rotor]`, which turns one mesh
+/// zone inside an inertial frame.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RotatingFrameSection {
+    /// Signed angular speed about `axis` [rad/s] (3000 rpm = 314.159265 rad/s, §15 A39).
+    pub omega: f64,
+    /// Direction of the rotation axis (any non-zero length; normalised), default +z.
+    #[serde(default = "RotatingFrameSection::default_axis")]
+    pub axis: [f64; 3],
+    /// A point on the rotation axis [m], default the coordinate origin.
+    #[serde(default)]
+    pub origin: [f64; 3],
+}
+
+impl RotatingFrameSection {
+    fn default_axis() -> [f64; 3] {
+        [0.0, 0.0, 1.0]
+    }
+
+    /// |axis|, the length the axis is divided by.
+    pub fn axis_length(&self) -> f64 {
+        self.axis.iter().map(|a| a * a).sum::<f64>().sqrt()
+    }
+
+    pub fn validate(&self) -> Result<(), FieldError> {
+        if !self.omega.is_finite() {
+            return Err(FieldError::new("physics.rotating_frame.omega", self.omega, "a finite angular velocity in rad/s"));
+        }
+        finite_vector("physics.rotating_frame.axis", self.axis)?;
+        finite_vector("physics.rotating_frame.origin", self.origin)?;
+        // the same threshold as `rotor.axis`: a direction, not round-off (the axis is finite here)
+        if self.axis_length() < 1e-12 {
+            return Err(FieldError::new("physics.rotating_frame.axis", format!("{:?}", self.axis), "a non-zero direction vector"));
+        }
+        Ok(())
     }
 }
 

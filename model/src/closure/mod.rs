@@ -1,4 +1,5 @@
-//! Closure laws shared by both solvers: contact forces, restitution, drag.
+//! Closure laws shared by both solvers: contact forces, restitution, drag, and the fictitious
+//! forces of a rotating frame.
 //!
 //! Each function is a plain formula with its spec equation cited; solvers call these and never
 //! re-derive them.
@@ -7,3 +8,4 @@ pub mod collision_time;
 pub mod contact;
 pub mod drag;
 pub mod restitution;
+pub mod rotating_frame;

@@ -13,6 +13,7 @@ use std::collections::BTreeMap;
 use spillage_model::case::Case;
 use spillage_model::closure::collision_time::{collision_time, substeps};
 use spillage_model::closure::drag::{fluid_force_step, DragLaw, FluidAtParticle};
+use spillage_model::closure::rotating_frame::{dry_particle_update, fluid_force_step_in_rotating_frame, RotatingFrame};
 use spillage_model::coupling::Feedback;
 use spillage_model::particles::settings::ParticlesSection;
 use spillage_model::particles::state::Vec3;
@@ -36,6 +37,9 @@ pub struct ReferenceDem {
     section: ParticlesSection,
     materials: MaterialTable,
     gravity: Vec3,
+    /// The case's rotating frame (wear-model.md §2.6), if any: its fictitious forces join the
+    /// fluid-force update ([`Self::fluid_forces`]).
+    rotating_frame: Option<RotatingFrame>,
     wall_meshes: Vec<WallMesh>,
     /// The wall revision each mesh was built from (a receding wall is rebuilt when it moves).
     mesh_revisions: Vec<u64>,
@@ -92,6 +96,7 @@ impl ReferenceDem {
         let feedback = case.coupling.as_ref().map(|c| c.feedback);
         Ok(Self {
             gravity: Vec3::from(case.physics.gravity),
+            rotating_frame: RotatingFrame::of_physics(&case.physics).map_err(|e| unsupported(format!("`{}` = {}: expected {}", e.key, e.value, e.allowed)))?,
             wall_meshes,
             mesh_revisions,
             wet_fluid,
@@ -193,12 +198,27 @@ impl ReferenceDem {
     /// The implicit fluid-force update of particle `i` over `dt` (§5.10), and, two-way coupled,
     /// its contribution to the step's load: ∫K dt and ∫(K u_p − F_AM − F_pg) dt (§8.4), with
     /// −∫V_p(ρ_p − ρ_c) g dt more for the literal feedback (§2.6).
+    ///
+    /// In a rotating frame (wear-model.md §2.6 [R]) the update adds −2Ω×u_p − Ω×(Ω×r) per unit
+    /// particle mass. With a fluid (coupled, or the still `[particles.ambient]` fluid, at rest in
+    /// the frame) the particle equation carries the pressure-gradient force, taken on the fluid's
+    /// acceleration relative to an inertial frame, which supplies the centrifugal buoyancy
+    /// ([`fluid_force_step_in_rotating_frame`]). Without any fluid (particle-only, no ambient)
+    /// nothing supplies buoyancy and the full per-unit-mass form applies
+    /// ([`dry_particle_update`]). Either way the Coriolis part is trapezoidal in u_p, which keeps
+    /// the sub-step symmetric (and second order without drag).
     fn fluid_forces(&mut self, i: usize, p: &mut Particle, fluid: Option<&FluidAtParticle>, dt: f64) {
         let Some(fluid) = fluid else {
-            p.velocity += dt * self.gravity;
+            match &self.rotating_frame {
+                None => p.velocity += dt * self.gravity,
+                Some(frame) => p.velocity = dry_particle_update(frame, p.velocity, p.position, self.gravity, dt),
+            }
             return;
         };
-        let step = fluid_force_step(self.drag_law, p.velocity, p.diameter, p.density, fluid, self.gravity, dt);
+        let step = match &self.rotating_frame {
+            None => fluid_force_step(self.drag_law, p.velocity, p.diameter, p.density, fluid, self.gravity, dt),
+            Some(frame) => fluid_force_step_in_rotating_frame(frame, self.drag_law, p.velocity, p.position, p.diameter, p.density, fluid, self.gravity, dt),
+        };
         p.velocity = step.velocity;
         let Some(feedback) = self.feedback else { return };
         let load = &mut self.load;

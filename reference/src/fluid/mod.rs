@@ -32,9 +32,11 @@
 //!       and ∇u*); diffusion Σ (αν)_f [|S|²/(d·S)](u_N − u_P) implicit plus
 //!       (αν)_f (∇u)_f·(S − |S|²/(d·S) d) explicit, (∇u)_f linearly interpolated; explicit
 //!       Σ (αν)_f[(∇u)_fᵀ − ⅔tr(∇u)_f I]·S (cell gradient on boundary faces); body force
-//!       (g + `body_force`)V; fixed-velocity faces: −α_P(φ_b − φ_mesh)u_b in the source and
-//!       ν α_P|S|/d_n on the diagonal, ν α_P|S|/d_n u_b in the source; pressure-outlet faces:
-//!       α_P(φ_b − φ_mesh) on the diagonal; symmetry: viscous flux towards the slip value of u*.
+//!       (g + `body_force`)V; in a rotating frame α(−2Ω×u* − Ω×(Ω×(x_c − x₀)))V, Coriolis in
+//!       the latest iterate u* ([`momentum`] doc, wear-model.md §2.6); fixed-velocity faces:
+//!       −α_P(φ_b − φ_mesh)u_b in the source and ν α_P|S|/d_n on the diagonal, ν α_P|S|/d_n u_b
+//!       in the source; pressure-outlet faces: α_P(φ_b − φ_mesh) on the diagonal; symmetry:
+//!       viscous flux towards the slip value of u*.
 //!       Then implicit under-relaxation a_P ← a_P/α_u, b ← b + (a_P/α_u − a_P)u*.
 //!    c. Predictor: solve M u = b − V ∇P* (∇P* Gauss with linear face values and the boundary
 //!       pressures) for every solved component (components along empty-patch normals stay 0).

@@ -7,12 +7,23 @@
 //! With particles (spec §8.4, §8.5) the cell load adds +C_j/ρ to the diagonal (the implicit
 //! drag −C_j u_j, sign corrected) and F_j/ρ to the source (the explicit particle force).
 //!
+//! In a rotating frame (`[physics.rotating_frame]`, wear-model.md §2.6 [R]) the source also gets
+//! α_c(−2Ω×u* − Ω×(Ω×(x_c − x₀)))V per cell (x_c the cell centre), next to the body force: the
+//! centrifugal part is a body force; the Coriolis part is explicit in the latest outer iterate
+//! u*, like the convecting flux φ* and the explicit stress parts. At outer-loop convergence it
+//! is then implicit at tⁿ⁺¹ (BDF2 keeps its order; an old-level −2Ω×uⁿ would be first order
+//! and, alone, grow the velocity by √(1 + (2ΩΔt)²) per step); with one outer iteration u* = uⁿ.
+//! As a fixed-point iteration it contracts by about 2|Ω|Δt/c₀ per outer iteration (the Coriolis
+//! term against the time term of the diagonal), so it needs 2|Ω|Δt/c₀ < 1 (an estimate; the
+//! verification cases run at 0.13).
+//!
 //! Convection is implicit with the latest flux φ* and the scheme's face weight; the Laplacian
 //! is implicit with the over-relaxed non-orthogonal split and an explicit correction; the
 //! transpose and dilatation parts are explicit from the latest iterate (spec §8.2). The pressure
 //! gradient is *not* part of the system: it is added to the right-hand side of the predictor
 //! and left out of H (spec T4.24).
 
+use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
@@ -41,6 +52,9 @@ pub struct StepInputs<'a> {
     pub u_old_old: &'a [Vec3],
     /// Kinematic body force (gravity + `numerics.body_force`) [m/s²].
     pub body_force: Vec3,
+    /// The case's rotating frame (module doc), if any, and the cell centres it is evaluated at.
+    pub rotating_frame: Option<RotatingFrame>,
+    pub cell_centres: &'a [Vec3],
     /// Fixed boundary velocity of each boundary face (`None` for pressure/symmetry faces).
     pub boundary_velocity: &'a [Option<Vec3>],
     /// Per link: the time-derivative flux correction divided by rAU_f (module doc step 4d),
@@ -114,6 +128,9 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         m.add_diagonal(c, c0 * inputs.alpha[c] * v / inputs.dt);
         source[c] -= (inputs.u_old[c] * (c1 * inputs.alpha_old[c]) + inputs.u_old_old[c] * (c2 * inputs.alpha_old_old[c])) * (v / inputs.dt);
         source[c] += inputs.body_force * v;
+        if let Some(frame) = &inputs.rotating_frame {
+            source[c] += frame.fictitious_acceleration(u[c], inputs.cell_centres[c]) * (inputs.alpha[c] * v);
+        }
         if let Some(load) = inputs.load {
             m.add_diagonal(c, load.implicit_drag[c] / inputs.density);
             source[c] += load.explicit_force[c] / inputs.density;

@@ -1,6 +1,7 @@
 //! The [`ReferenceFluid`] time stepper: one PIMPLE step per call (algorithm in the module doc).
 
 use spillage_model::case::Case;
+use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
@@ -29,6 +30,8 @@ pub struct ReferenceFluid {
     nu: f64,
     density: f64,
     body_force: Vec3,
+    /// The case's rotating frame (wear-model.md §2.6), if any.
+    rotating_frame: Option<RotatingFrame>,
     /// The rotor zone and its motion at the pose of the current step.
     rotor: Option<RotorMotion>,
     /// Axis and origin of the sliding interfaces (the rotor zone's rotation).
@@ -45,6 +48,8 @@ impl ReferenceFluid {
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let body_force = numerics.kinematic_body_force(case.physics.gravity);
+        let rotating_frame =
+            RotatingFrame::of_physics(&case.physics).map_err(|e| SolverError::Unsupported(format!("`{}` = {}: expected {}", e.key, e.value, e.allowed)))?;
         let interface_axis = mesh.rotating_zone_axis();
         let rotor = RotorMotion::from_case(case, &mesh).map_err(SolverError::Unsupported)?;
 
@@ -56,6 +61,7 @@ impl ReferenceFluid {
             nu: fluid.kinematic_viscosity,
             density: fluid.density,
             body_force,
+            rotating_frame,
             rotor,
             interface_axis,
             dt_old: state.dt,
@@ -136,6 +142,8 @@ impl ReferenceFluid {
             u_old: &u_old,
             u_old_old: &u_old_old,
             body_force: self.body_force,
+            rotating_frame: self.rotating_frame,
+            cell_centres: &self.mesh.cell_centres,
             boundary_velocity: &boundary_velocity,
             ddt_flux_correction: &ddt_flux_correction,
             load,
