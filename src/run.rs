@@ -140,6 +140,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if case.output.plots {
         draw_plots(&out, &case.case.name)?;
     }
+    if let Some(particles) = state.particles.as_ref().filter(|_| case.cutter_head.is_none()) {
+        eprintln!("{}", particle_exits_line(particles));
+    }
     for line in crate::head_report::report(&case, state, &out)?.into_iter().chain(crate::wear_report::report(&case, state, &out)?) {
         eprintln!("{line}");
     }
@@ -302,4 +305,28 @@ fn column_unit(column: &str) -> (&'static str, bool) {
         "settling_velocity" => ("m/s", false),
         _ => ("", false),
     }
+}
+
+/// Where the particles went: created, still inside, and how many left by each route (a
+/// cutter head prints its own production and spillage instead).
+fn particle_exits_line(particles: &spillage_model::particles::ParticleState) -> String {
+    use spillage_model::particles::bookkeeping::ExitRoute;
+    let mut routes: std::collections::BTreeMap<String, u64> = std::collections::BTreeMap::new();
+    for exit in &particles.exits {
+        let name = match &exit.route {
+            ExitRoute::Domain => "the [particles] domain".to_string(),
+            ExitRoute::Patch(p) => format!("patch {p}"),
+            ExitRoute::Sucked => "sucked".to_string(),
+            ExitRoute::Spilled => "spilled".to_string(),
+        };
+        *routes.entry(name).or_default() += 1;
+    }
+    let left: Vec<String> = routes.iter().map(|(route, n)| format!("{n} through {route}")).collect();
+    format!(
+        "particles         {} created, {} inside{}{}",
+        particles.counts.created,
+        particles.particles.len(),
+        if left.is_empty() { "" } else { "; left: " },
+        left.join(", ")
+    )
 }

@@ -43,6 +43,22 @@ fn the_stream_check_passes_at_its_coarse_level() {
 }
 
 #[test]
+fn the_coriolis_tester_lands_its_garnet_a_centimetre_after_the_step() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/coriolis_garnet.toml");
+    let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let rows = spillage::verify::run_case(&case, false).unwrap();
+    for r in &rows {
+        eprintln!("{:<80} value {:>12.5e} ref {:>10.3e} tol {:>10.3e} {}", r.quantity, r.value, r.reference, r.tolerance, if r.pass { "ok" } else { "FAIL" });
+    }
+    let failed: Vec<_> = rows.iter().filter(|r| !r.pass).collect();
+    assert!(failed.is_empty(), "{failed:#?}");
+    let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+        insta::assert_json_snapshot!("wear_coriolis_garnet", summary);
+    });
+}
+
+#[test]
 fn a_restart_with_worn_walls_continues_bit_for_bit() {
     let case = stream_case(|_| {});
     let mut straight = run(&case, State::default());

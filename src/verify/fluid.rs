@@ -477,7 +477,7 @@ fn poiseuille(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
     let (g, mean_u) = match drive {
         "body_force" => (case.numerics.body_force[0], None),
         "inlet" => match case.boundary.get("x_min") {
-            Some(BoundaryCondition::VelocityInlet { velocity }) => (0.0, Some(velocity[0])),
+            Some(BoundaryCondition::VelocityInlet { velocity, .. }) => (0.0, Some(velocity[0])),
             _ => bail!("drive = \"inlet\" needs a velocity_inlet on x_min"),
         },
         other => bail!("[verify.params] drive = {other:?}: expected \"body_force\" or \"inlet\""),

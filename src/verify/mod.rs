@@ -8,8 +8,8 @@ pub mod coupling;
 pub mod cutter_head;
 pub mod dem;
 pub mod fluid;
-pub mod wear;
 pub mod rotating_frame;
+pub mod wear;
 
 use std::path::{Path, PathBuf};
 

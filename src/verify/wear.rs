@@ -152,7 +152,7 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
             .map(|k| 0.5 * k as f64)
             .filter_map(|a| arabnejad_wear(&material, &options, mass, particle.density, speed, a.to_radians()).ok().map(|w| (a, w.volume / mass)))
             .collect();
-        let title = format!("{name}: wear per unit mass of particles against the impact angle ({speed} m/s)");
+        let title = format!("{name}: wear per particle mass at {speed} m/s");
         write_png(
             &Plot {
                 title: &title,
@@ -239,7 +239,13 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
     let peaks = profile_peaks(&depth);
     let mut rows = Vec::new();
     let impacts: u64 = wear.walls.iter().flat_map(|w| &w.triangle_impacts).sum();
-    rows.push(CheckRow::at_least(name, "impacts on the eroding walls", SOLVER, impacts as f64, number(base, "min_impacts")?));
+    rows.push(CheckRow::at_least(
+        name,
+        "impacts on the eroding walls",
+        SOLVER,
+        impacts as f64,
+        number(base, if full { "min_impacts" } else { "coarse_min_impacts" })?,
+    ));
     rows.push(CheckRow::absolute(
         name,
         "distance of the deepest wear from the profile start [m]",
@@ -248,16 +254,25 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
         number(base, "first_peak")?,
         number(base, "first_peak_tolerance")?,
     ));
-    let ratio = numbers(base, "second_ratio")?;
-    let (lo, hi) = (ratio[0], ratio[1]);
-    rows.push(CheckRow::absolute(
-        name,
-        "second wear region: its peak over the first (after a dip; NaN without one)",
-        SOLVER,
-        peaks.second_ratio,
-        0.5 * (lo + hi),
-        0.5 * (hi - lo),
-    ));
+    let second_region = params(base)?.get("second_region").and_then(|v| v.as_bool()).unwrap_or(true);
+    if full && !second_region {
+        // one broad region: no dip followed by a rise of a quarter (0 when there is none)
+        let ratio = if peaks.second_ratio.is_nan() { 0.0 } else { peaks.second_ratio };
+        rows.push(CheckRow::at_most(name, "second wear region after a dip: its peak over the first (none expected)", SOLVER, ratio, 0.0));
+    } else if full {
+        // the second region builds up from rebounds over the whole run (the thesis: it appears
+        // at t = 0.01 s): the coarse level's 8 ms cannot show it
+        let ratio = numbers(base, "second_ratio")?;
+        let (lo, hi) = (ratio[0], ratio[1]);
+        rows.push(CheckRow::absolute(
+            name,
+            "second wear region: its peak over the first (after a dip; NaN without one)",
+            SOLVER,
+            peaks.second_ratio,
+            0.5 * (lo + hi),
+            0.5 * (hi - lo),
+        ));
+    }
     let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
     let receded: f64 = wear.walls.iter().map(|w| w.receded + w.pending).sum();
     let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
@@ -275,7 +290,7 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
         let normalised: Vec<(f64, f64)> = depth.iter().map(|(x, d)| (1e3 * x, d / top)).collect();
         let first = number(base, "first_peak")?;
         let expected = vec![(1e3 * first, 0.0), (1e3 * first, 1.0)];
-        let title = format!("{name}: wear depth along the coupon (t = {:.4} s), normalised by its peak", state.time);
+        let title = format!("{name}: wear depth / its peak (t = {:.4} s)", state.time);
         write_png(
             &Plot {
                 title: &title,

@@ -130,7 +130,7 @@ impl Case {
         let area = crate::cutter_head::fluid_mesh::floor_area(head)
             .map_err(|e| FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"))?;
         let velocity = head.suction_discharge / area;
-        self.boundary.insert("floor".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity] });
+        self.boundary.insert("floor".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity], profile: None });
         self.boundary.insert("suction".into(), BoundaryCondition::PressureOutlet { pressure: 0.0 });
         self.derived_conditions = true;
         Ok(())
@@ -310,13 +310,13 @@ mod tests {
     #[test]
     fn a_head_sets_its_floor_and_suction_and_refuses_them_in_the_file() {
         let case = head_case(|t| t).unwrap();
-        assert!(matches!(case.boundary["floor"], BoundaryCondition::VelocityInlet { velocity } if velocity[2] > 0.0));
+        assert!(matches!(case.boundary["floor"], BoundaryCondition::VelocityInlet { velocity, .. } if velocity[2] > 0.0));
         assert!(matches!(case.boundary["suction"], BoundaryCondition::PressureOutlet { .. }));
         let mut again = case.clone();
         again.cutter_head.as_mut().unwrap().suction_discharge = 0.24;
         again.finish().unwrap();
         let speed = |c: &Case| match c.boundary["floor"] {
-            BoundaryCondition::VelocityInlet { velocity } => velocity[2],
+            BoundaryCondition::VelocityInlet { velocity, .. } => velocity[2],
             _ => unreachable!(),
         };
         // the floor's inflow follows the discharge (same area)

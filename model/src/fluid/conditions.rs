@@ -6,14 +6,14 @@ use crate::mesh::motion::rigid_rotation_velocity;
 use crate::mesh::{Mesh, PatchKind, Vec3};
 use crate::solver::SolverError;
 
-use super::settings::BoundaryCondition;
+use super::settings::{BoundaryCondition, ParabolicProfile};
 
 /// What a boundary patch imposes.
 #[derive(Clone, Debug)]
 pub enum Condition {
     /// Fixed velocity u_b(x) = `velocity` + ω â × (x − `origin`) (ω = `angular_velocity` about the
     /// unit `axis`), plus the rotor's rigid motion if `rotating`; prescribed flux u_b·S.
-    FixedVelocity { velocity: Vec3, angular_velocity: f64, axis: Vec3, origin: Vec3, rotating: bool },
+    FixedVelocity { velocity: Vec3, angular_velocity: f64, axis: Vec3, origin: Vec3, rotating: bool, profile: Option<ParabolicProfile> },
     /// Fixed kinematic pressure, zero-gradient velocity.
     FixedPressure { pressure: f64 },
     /// No normal flux relative to the mesh, zero-gradient tangential velocity.
@@ -55,13 +55,15 @@ impl Conditions {
                     axis: Vec3::from(*axis).normalize(),
                     origin: Vec3::from(*origin),
                     rotating: *rotating,
+                    profile: None,
                 },
-                BoundaryCondition::VelocityInlet { velocity } => Condition::FixedVelocity {
+                BoundaryCondition::VelocityInlet { velocity, profile } => Condition::FixedVelocity {
                     velocity: Vec3::from(*velocity),
                     angular_velocity: 0.0,
                     axis: Vec3::zeros(),
                     origin: Vec3::zeros(),
                     rotating: false,
+                    profile: profile.clone(),
                 },
                 BoundaryCondition::PressureOutlet { pressure } => {
                     has_fixed_pressure = true;
@@ -80,8 +82,9 @@ impl Conditions {
     /// rotor).
     pub fn fixed_velocity(&self, condition: usize, centre: &Vec3, rotor_velocity: Option<impl Fn(&Vec3) -> Vec3>) -> Option<Vec3> {
         match &self.conditions[condition] {
-            Condition::FixedVelocity { velocity, angular_velocity, axis, origin, rotating } => {
-                let mut u = velocity + rigid_rotation_velocity(*angular_velocity, axis, origin, centre);
+            Condition::FixedVelocity { velocity, angular_velocity, axis, origin, rotating, profile } => {
+                let shape = profile.as_ref().map_or(1.0, |p| p.factor([centre.x, centre.y, centre.z]));
+                let mut u = shape * velocity + rigid_rotation_velocity(*angular_velocity, axis, origin, centre);
                 if *rotating {
                     if let Some(rotor_velocity) = rotor_velocity {
                         u += rotor_velocity(centre);

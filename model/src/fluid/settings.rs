@@ -117,8 +117,12 @@ pub enum BoundaryCondition {
         origin: [f64; 3],
     },
     /// Fixed velocity (the flux u·S may point in or out); pressure by the wall condition of
-    /// `[numerics] pressure_wall` (spec §8.8).
-    VelocityInlet { velocity: [f64; 3] },
+    /// `[numerics] pressure_wall` (spec §8.8). With a `profile`, `velocity` is the mean over it.
+    VelocityInlet {
+        velocity: [f64; 3],
+        #[serde(default)]
+        profile: Option<ParabolicProfile>,
+    },
     /// Fixed pressure `pressure` [Pa], zero-gradient velocity.
     PressureOutlet {
         #[serde(default)]
@@ -126,6 +130,43 @@ pub enum BoundaryCondition {
     },
     /// Symmetry plane: no normal flux, zero normal gradient of the tangential velocity.
     Symmetry,
+}
+
+/// A parabolic profile across one direction: u(s) = ū · 3/2 (1 − ξ²), ξ = (s − centre)/half
+/// width for s between `from` and `to` along `axis` (0 outside), so ū is the mean over the
+/// span: a developed channel inlet (the Coriolis tester's, wear-model.md §12.4, scaled to the
+/// flow rate as §13 row 18 recommends).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ParabolicProfile {
+    /// "x", "y" or "z".
+    pub axis: String,
+    pub from: f64,
+    pub to: f64,
+}
+
+impl ParabolicProfile {
+    /// The factor u/ū at point `x`.
+    pub fn factor(&self, x: [f64; 3]) -> f64 {
+        let d = match self.axis.as_str() {
+            "x" => 0,
+            "y" => 1,
+            _ => 2,
+        };
+        let (centre, half) = (0.5 * (self.from + self.to), 0.5 * (self.to - self.from));
+        let xi = (x[d] - centre) / half;
+        (1.5 * (1.0 - xi * xi)).max(0.0)
+    }
+
+    pub fn validate(&self, key: &str) -> Result<(), FieldError> {
+        if !matches!(self.axis.as_str(), "x" | "y" | "z") {
+            return Err(FieldError::new(format!("{key}.axis"), format!("{:?}", self.axis), "\"x\", \"y\" or \"z\""));
+        }
+        if !(self.from.is_finite() && self.to.is_finite() && self.to > self.from) {
+            return Err(FieldError::new(format!("{key}.to"), self.to, format!("a coordinate beyond from = {}", self.from)));
+        }
+        Ok(())
+    }
 }
 
 fn z_axis() -> [f64; 3] {
@@ -158,7 +199,12 @@ impl BoundaryCondition {
                 }
                 Ok(())
             }
-            BoundaryCondition::VelocityInlet { velocity } => finite_vector(&format!("{key}.velocity"), *velocity),
+            BoundaryCondition::VelocityInlet { velocity, profile } => {
+                if let Some(p) = profile {
+                    p.validate(&format!("{key}.profile"))?;
+                }
+                finite_vector(&format!("{key}.velocity"), *velocity)
+            }
             BoundaryCondition::PressureOutlet { pressure } => {
                 if pressure.is_finite() {
                     Ok(())
@@ -179,7 +225,7 @@ impl BoundaryCondition {
         let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         match self {
             BoundaryCondition::Wall { velocity, angular_velocity, origin, .. } => Some(norm(velocity) + angular_velocity.abs() * (r_max + norm(origin))),
-            BoundaryCondition::VelocityInlet { velocity } => Some(norm(velocity)),
+            BoundaryCondition::VelocityInlet { velocity, profile } => Some(norm(velocity) * if profile.is_some() { 1.5 } else { 1.0 }),
             BoundaryCondition::PressureOutlet { .. } | BoundaryCondition::Symmetry => None,
         }
     }
@@ -369,5 +415,23 @@ impl NumericsSection {
             return Err(FieldError::new("numerics.max_linear_iterations", self.max_linear_iterations, "a whole number from 1 to 10⁶"));
         }
         finite_vector("numerics.body_force", self.body_force)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_parabolic_profile_has_the_given_mean_and_one_and_a_half_times_it_at_its_centre() {
+        let p = ParabolicProfile { axis: "y".into(), from: -0.003, to: 0.003 };
+        let n = 100_000;
+        let mean: f64 = (0..n).map(|k| p.factor([0.0, -0.003 + 0.006 * (k as f64 + 0.5) / n as f64, 0.0])).sum::<f64>() / n as f64;
+        // midpoint rule of a parabola: error h²/12 · |u''| / 2 ≈ 1e-10
+        assert!((mean - 1.0).abs() < 1e-9, "{mean}");
+        assert_eq!(p.factor([0.0, 0.0, 0.0]), 1.5);
+        assert_eq!(p.factor([0.0, 0.004, 0.0]), 0.0);
+        assert!(ParabolicProfile { axis: "w".into(), from: 0.0, to: 1.0 }.validate("boundary.x_min.profile").is_err());
+        assert_eq!(ParabolicProfile { axis: "x".into(), from: 1.0, to: 1.0 }.validate("k").unwrap_err().key, "k.to");
     }
 }

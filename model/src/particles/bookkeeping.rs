@@ -59,7 +59,8 @@ pub fn feed(section: &ParticlesSection, state: &mut ParticleState, time: f64, dt
             let mut random = state.feed_random[f].clone();
             let Some(position) = place_without_overlap(&feed.region, d, &state.particles, &mut random, &clear) else { break };
             state.feed_random[f] = random;
-            let particle = new_particle(section, state, material, d, position, Vec3::from(feed.velocity));
+            let shape = feed.velocity_profile.as_ref().map_or(1.0, |p| p.factor([position.x, position.y, position.z]));
+            let particle = new_particle(section, state, material, d, position, shape * Vec3::from(feed.velocity));
             state.particles.push(particle);
             state.counts.created += 1;
             state.feed_debt[f] -= 1.0;

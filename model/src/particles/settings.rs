@@ -338,6 +338,11 @@ pub struct FeedSection {
     pub rate: f64,
     #[serde(default)]
     pub velocity: [f64; 3],
+    /// The velocity varies across the region like a parabolic inlet's (`velocity` is then the
+    /// mean of that profile, as for `[boundary.*] profile`): particles enter at the local fluid
+    /// velocity of a developed inlet.
+    #[serde(default)]
+    pub velocity_profile: Option<crate::fluid::settings::ParabolicProfile>,
     #[serde(default)]
     pub start: f64,
     pub end: Option<f64>,
@@ -352,6 +357,9 @@ impl FeedSection {
         self.region.validate(&format!("{key}.region"))?;
         positive(&format!("{key}.rate"), self.rate, "particles/s")?;
         finite_vector(&format!("{key}.velocity"), self.velocity)?;
+        if let Some(p) = &self.velocity_profile {
+            p.validate(&format!("{key}.velocity_profile"))?;
+        }
         non_negative(&format!("{key}.start"), self.start, "s")?;
         if let Some(end) = self.end {
             if !(end.is_finite() && end > self.start) {

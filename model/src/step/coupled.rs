@@ -68,6 +68,9 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     /// The wear phase (`[wear]`, set by [`Coupled::with_wear`]) and whether the case asks for one.
     wear: Option<Box<dyn WearPhase + Send>>,
     wear_in_case: bool,
+    /// Per fluid mesh patch: a wall or symmetry plane, which particles do not leave through
+    /// ([`exit_route`]).
+    closed_patches: Vec<bool>,
     label: &'static str,
 }
 
@@ -155,7 +158,12 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             _ => None,
         };
+        let closed_patches = fluid.as_ref().map_or(Vec::new(), |f| {
+            use crate::fluid::settings::BoundaryCondition;
+            f.mesh().patches.iter().map(|p| matches!(case.boundary.get(&p.name), Some(BoundaryCondition::Wall { .. } | BoundaryCondition::Symmetry))).collect()
+        });
         Ok(Coupled {
+            closed_patches,
             fluid,
             particles,
             state,
@@ -288,6 +296,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 return Err(diverged(format!("particle {} has a non-finite position or velocity", p.id)));
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
+            let closed = &self.closed_patches;
             let domain = section.domain.clone();
             let head = self.head.as_ref().map(|(h, _)| h);
             let (mut index, mut gone) = (0, Vec::new());
@@ -295,8 +304,8 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 let route = match head {
                     // a head's particles leave by its rules (its solids' staircase cells are
                     // no exit)
-                    Some(head) => exit_route(domain.as_ref(), None, &p.position).or_else(|| spillage::exit_route(head, &p.position)),
-                    None => exit_route(domain.as_ref(), mesh, &p.position),
+                    Some(head) => exit_route(domain.as_ref(), None, &[], &p.position, p.diameter).or_else(|| spillage::exit_route(head, &p.position)),
+                    None => exit_route(domain.as_ref(), mesh, closed, &p.position, p.diameter),
                 };
                 if route.is_some() {
                     gone.push(index);
@@ -454,7 +463,18 @@ fn median(mut values: Vec<f64>) -> f64 {
 /// every cell whose nearest boundary face is on a sliding interface is in the sliver between
 /// the rotor's and the stator's polygonal rings (up to r(1 − cos π/n_θ) wide), inside the
 /// domain: not an exit.
-fn exit_route(domain: Option<&crate::particles::settings::BoxRegion>, mesh: Option<&Mesh>, position: &Vec3) -> Option<ExitRoute> {
+///
+/// Likewise a particle less than a diameter beyond a closed patch (a wall or a symmetry plane,
+/// `closed[patch]`) has not left: it sits in the crater of a receding DEM wall (the fluid mesh
+/// does not follow the wear) or in the gap between a DEM wall and the mesh; it leaves only
+/// through open patches (inlets, outlets) or farther out.
+fn exit_route(
+    domain: Option<&crate::particles::settings::BoxRegion>,
+    mesh: Option<&Mesh>,
+    closed: &[bool],
+    position: &Vec3,
+    diameter: f64,
+) -> Option<ExitRoute> {
     if let Some(d) = domain {
         if !d.contains([position.x, position.y, position.z]) {
             return Some(ExitRoute::Domain);
@@ -466,8 +486,12 @@ fn exit_route(domain: Option<&crate::particles::settings::BoxRegion>, mesh: Opti
     }
     let nearest = (mesh.n_internal_faces..mesh.n_faces())
         .min_by(|&a, &b| (mesh.face_centres[a] - position).norm_squared().total_cmp(&(mesh.face_centres[b] - position).norm_squared()))?;
-    let patch = mesh.patches.iter().find(|p| p.faces().contains(&nearest))?;
+    let (index, patch) = mesh.patches.iter().enumerate().find(|(_, p)| p.faces().contains(&nearest))?;
     if matches!(patch.kind, crate::mesh::PatchKind::Interface { .. }) {
+        return None;
+    }
+    let normal = mesh.face_areas[nearest].normalize();
+    if closed.get(index).copied().unwrap_or(false) && (position - mesh.face_centres[nearest]).dot(&normal).abs() < diameter {
         return None;
     }
     Some(ExitRoute::Patch(patch.name.clone()))
