@@ -173,16 +173,27 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
     }
     let state = run_to_end(&case)?;
     let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
-    let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
-    // measured on the geometry, independently of the wear phase's bookkeeping: the walls as
-    // the case builds them (unworn) against the walls at the end
-    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
-    let unworn = spillage_model::walls::build(&case, &dir)?;
     let impacts: u64 = wear.walls.iter().flat_map(|w| &w.triangle_impacts).sum();
     let law_total: f64 = wear.walls.iter().map(|w| scale * (w.law_cutting + w.law_deformation)).sum();
     let on_triangles: f64 = wear.walls.iter().flat_map(|w| &w.triangle_volume).sum();
-    let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
-    let damping = section.smoothing.as_ref().map(|s| s.damping);
+    let minimum = number(base, if full { "full_min_impacts" } else { "coarse_min_impacts" })?;
+    rows.push(CheckRow::at_least(name, "impacts on the plate (the stream)", SOLVER, impacts as f64, minimum));
+    // sums of the same numbers in different orders: round-off of a sum of n terms
+    rows.push(CheckRow::relative(name, "Σ deposited on the triangles vs Σ per-impact volumes (relative)", SOLVER, on_triangles, law_total, 1e-12));
+    rows.extend(budget_rows(name, &case, &state)?);
+    Ok(rows)
+}
+
+/// The volume budget at the end of a run, measured on the geometry independently of the wear
+/// phase's own bookkeeping (the walls as the case builds them, unworn, against the walls at the
+/// end): deposited = receded + still smoothing (§7.3 identity), and the receded volume = the
+/// walls' geometric volume change.
+fn budget_rows(name: &str, case: &Case, state: &State) -> Result<Vec<CheckRow>> {
+    let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
+    let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
+    let damping = case.wear.as_ref().and_then(|w| w.smoothing.as_ref()).map(|s| s.damping);
+    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
+    let unworn = spillage_model::walls::build(case, &dir)?;
     let (mut in_flight, mut geometric) = (0.0, 0.0);
     for w in &wear.walls {
         let before = &unworn.walls[w.wall];
@@ -192,22 +203,15 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
         let origin = nodes_before.iter().fold(Vec3::zeros(), |a, p| a + p) / nodes_before.len() as f64;
         geometric += w.material_side * (surface.cone_volume(&nodes_after, origin) - surface.cone_volume(&nodes_before, origin));
     }
-    let receded: f64 = wear.walls.iter().map(|w| w.receded + w.pending).sum();
-    let minimum = number(base, if full { "full_min_impacts" } else { "coarse_min_impacts" })?;
-    rows.push(CheckRow::at_least(name, "impacts on the plate (the stream)", SOLVER, impacts as f64, minimum));
-    // sums of the same numbers in different orders: round-off of a sum of n terms
-    rows.push(CheckRow::relative(name, "Σ deposited on the triangles vs Σ per-impact volumes (relative)", SOLVER, on_triangles, law_total, 1e-12));
-    rows.push(CheckRow::relative(name, "receded + still smoothing vs deposited (relative; §7.3 identity)", SOLVER, receded + in_flight, deposited, 1e-12));
-    // the bound: each step's recession is solved to 1e-12 of its volume
-    rows.push(CheckRow::relative(
-        name,
-        "wall geometric volume change vs receded volume (relative)",
-        SOLVER,
-        geometric,
-        wear.walls.iter().map(|w| w.receded).sum(),
-        1e-9,
-    ));
-    Ok(rows)
+    let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
+    let receded: f64 = wear.walls.iter().map(|w| w.receded).sum();
+    let pending: f64 = wear.walls.iter().map(|w| w.pending).sum();
+    Ok(vec![
+        // the discrete identity holds to the direct solves' round-off
+        CheckRow::relative(name, "receded + still smoothing vs deposited (relative; §7.3 identity)", SOLVER, receded + pending + in_flight, deposited, 1e-12),
+        // the bound: each step's recession is solved to 1e-12 of its volume
+        CheckRow::relative(name, "wall geometric volume change vs receded volume (relative)", SOLVER, geometric, receded, 1e-9),
+    ])
 }
 
 /// The wear profile of a case with `[wear.profile]` (the Coriolis tester, §12.4): its largest
@@ -273,17 +277,7 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
             0.5 * (hi - lo),
         ));
     }
-    let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
-    let receded: f64 = wear.walls.iter().map(|w| w.receded + w.pending).sum();
-    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
-    let unworn = spillage_model::walls::build(&case, &dir)?;
-    let damping = section.smoothing.as_ref().map(|s| s.damping);
-    let mut in_flight = 0.0;
-    for w in &wear.walls {
-        let before = &unworn.walls[w.wall];
-        in_flight += w.in_flight(&WearSurface::new(&before.vertices, &before.triangles).node_area, damping);
-    }
-    rows.push(CheckRow::relative(name, "receded + still smoothing vs deposited (relative; §7.3 identity)", SOLVER, receded + in_flight, deposited, 1e-12));
+    rows.extend(budget_rows(name, &case, &state)?);
     if let Some(dir) = plots {
         std::fs::create_dir_all(dir)?;
         let top = peaks.first.1.max(f64::MIN_POSITIVE);

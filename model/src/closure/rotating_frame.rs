@@ -233,17 +233,22 @@ mod tests {
         assert!((after.norm() - u.norm()).abs() < 1e-14, "{} vs {}", after.norm(), u.norm());
     }
 
-    /// At Ω = 0 the rotating-frame update is the inertial one.
-    #[test]
-    fn zero_rotation_reproduces_the_inertial_update() {
-        let still = RotatingFrame::new(0.0, [0.0, 0.0, 1.0], [0.0; 3]).unwrap();
-        let fluid = FluidAtParticle {
+    /// Water with some velocity and acceleration, partly displaced by particles.
+    fn moving_fluid() -> FluidAtParticle {
+        FluidAtParticle {
             density: 998.2,
             kinematic_viscosity: 1.0034e-6,
             velocity: Vec3::new(0.2, -0.1, 0.05),
             material_acceleration: Vec3::new(-1.0, 0.3, 2.0),
             fluid_fraction: 0.8,
-        };
+        }
+    }
+
+    /// At Ω = 0 the rotating-frame update is the inertial one.
+    #[test]
+    fn zero_rotation_reproduces_the_inertial_update() {
+        let still = RotatingFrame::new(0.0, [0.0, 0.0, 1.0], [0.0; 3]).unwrap();
+        let fluid = moving_fluid();
         let (u, r, g) = (Vec3::new(-0.3, 0.4, -0.6), Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -9.81));
         let a = fluid_force_step(DragLaw::BrownLawler, u, 0.01, 2650.0, &fluid, g, 1e-3);
         let b = fluid_force_step_in_rotating_frame(&still, DragLaw::BrownLawler, u, r, 0.01, 2650.0, &fluid, g, 1e-3);
@@ -258,13 +263,7 @@ mod tests {
     #[test]
     fn forces_of_the_update_balance_the_momentum_change() {
         let f = frame();
-        let fluid = FluidAtParticle {
-            density: 998.2,
-            kinematic_viscosity: 1.0034e-6,
-            velocity: Vec3::new(0.2, -0.1, 0.05),
-            material_acceleration: Vec3::new(-1.0, 0.3, 2.0),
-            fluid_fraction: 0.8,
-        };
+        let fluid = moving_fluid();
         let (d, rho, g, dt) = (0.01, 2650.0, Vec3::new(0.0, 0.0, -9.81), 1e-3);
         let (u, r) = (Vec3::new(-0.3, 0.4, -0.6), Vec3::new(1.5, 0.2, -0.3));
         let step = fluid_force_step_in_rotating_frame(&f, DragLaw::BrownLawler, u, r, d, rho, &fluid, g, dt);
