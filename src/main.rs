@@ -5,6 +5,7 @@ mod check;
 mod frames;
 mod head_report;
 mod progress;
+mod results_folder;
 mod run;
 mod sweep;
 mod verify_cmd;
@@ -48,6 +49,9 @@ enum Command {
         /// Continue from a checkpoint file written by an earlier run of the same case.
         #[arg(long)]
         restart: Option<PathBuf>,
+        /// Replace another run's results in --out (a new run refuses to mix with them).
+        #[arg(long)]
+        force: bool,
     },
     /// Validate a case file and print the derived numbers (cells, Courant number, DEM step,
     /// Stokes numbers, memory estimate).
@@ -84,7 +88,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { case, solver, out, threads, restart } => run::run(&run::RunOptions { case, solver, out, threads, restart }),
+        Command::Run { case, solver, out, threads, restart, force } => run::run(&run::RunOptions { case, solver, out, threads, restart, force }),
         Command::Check { case } => check::check(&case),
         Command::Verify { cases, json, full, plots } => verify_cmd::verify(&cases, json, full, plots.as_deref()),
         Command::Analytic(args) => analytic_cmd::run(&args),

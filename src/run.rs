@@ -27,6 +27,8 @@ pub struct RunOptions {
     pub out: Option<PathBuf>,
     pub threads: Option<usize>,
     pub restart: Option<PathBuf>,
+    /// Replace the results of another run in `out`.
+    pub force: bool,
 }
 
 /// Builds the run a case needs, from the initial state or a restart state: the step driver
@@ -86,12 +88,12 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         threads = cores;
     }
     rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set up the thread pool")?;
-    let out = opts.out.clone().unwrap_or_else(|| Path::new("results").join(&case.case.name));
-    std::fs::create_dir_all(out.join("checkpoints")).with_context(|| format!("cannot create the results folder {}", out.display()))?;
     let restart = match &opts.restart {
         Some(path) => Some(spillage_model::checkpoint::read(path, Some(&case.case.name))?),
         None => None,
     };
+    let default = Path::new("results").join(&case.case.name);
+    let out = crate::results_folder::prepare(opts.out.as_deref(), &default, restart.as_ref().map(|s| s.step), opts.force)?;
     let restart_time = restart.as_ref().map(|s| s.time);
     let restart_step = restart.as_ref().map(|s| s.step);
     let mut solver = build_solver(&case, opts.solver, restart)?;

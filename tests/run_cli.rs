@@ -373,6 +373,7 @@ fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() 
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("did not converge in 1 iterations") && err.contains("max_linear_iterations"), "{err}");
+    assert!(err.contains("step 1, t = "), "the error names the step: {err}");
     let summary = Summary::read(&out_dir.join("summary.json")).unwrap();
     let status = summary.details["status"].as_str().unwrap().to_string();
     assert!(status.starts_with("failed:") && status.contains("did not converge"), "{status}");
@@ -389,4 +390,47 @@ fn verify_outside_the_repository_says_what_to_do() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("no cases/verification folder") && stderr.contains("repository root"), "{stderr}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run owns its results folder (issue 14 item 3): a second, shorter run into another run's
+/// folder is refused, and with `--force` leaves none of the old run's checkpoints behind (a
+/// restart from "the newest" would have loaded the other run's state); a restart drops the
+/// checkpoints after its step and the `.tmp` files of a killed run.
+#[test]
+fn a_run_owns_its_results_folder() {
+    let dir = scratch("owns-folder");
+    let (long, short) = (fluid_case(&dir, 6), dir.join("short.toml"));
+    std::fs::write(&short, std::fs::read_to_string(&long).unwrap().replace("steps = 6", "steps = 2")).unwrap();
+    let out = dir.join("out");
+    run_ok(&["run", long.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let refused = spillage(&["run", short.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let message = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{message}");
+    assert!(message.contains("holds another run's results") && message.contains("--force"), "{message}");
+    run_ok(&["run", short.to_str().unwrap(), "--out", out.to_str().unwrap(), "--force"]);
+    let mut left: Vec<String> = std::fs::read_dir(out.join("checkpoints")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    left.sort();
+    assert!(left.iter().all(|n| n.as_str() <= "step_00000002.ckpt"), "old checkpoints left: {left:?}");
+    assert_eq!(read_series(&out.join("series.csv")).unwrap().column("step").unwrap(), vec![1.0, 2.0]);
+
+    // a restart into the folder: later checkpoints and a killed run's .tmp go
+    run_ok(&["run", long.to_str().unwrap(), "--out", out.to_str().unwrap(), "--force"]);
+    std::fs::write(out.join("checkpoints").join("step_00000007.tmp"), b"half a checkpoint").unwrap();
+    let mid = out.join("checkpoints").join("step_00000003.ckpt");
+    let saved = dir.join("step_3.ckpt");
+    std::fs::copy(&mid, &saved).unwrap();
+    assert!(out.join("checkpoints").join("step_00000006.ckpt").exists());
+    let short_restart = dir.join("restart.toml");
+    std::fs::write(&short_restart, std::fs::read_to_string(&long).unwrap().replace("steps = 6", "steps = 4")).unwrap();
+    run_ok(&["run", short_restart.to_str().unwrap(), "--out", out.to_str().unwrap(), "--restart", saved.to_str().unwrap()]);
+    let names: Vec<String> = std::fs::read_dir(out.join("checkpoints")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(!names.iter().any(|n| n.ends_with(".tmp") || n.as_str() > "step_00000004.ckpt"), "{names:?}");
+
+    // without --out, a second run takes the next free default folder
+    let first = Command::new(env!("CARGO_BIN_EXE_spillage")).current_dir(&dir).args(["run", short.to_str().unwrap()]).output().unwrap();
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let second = Command::new(env!("CARGO_BIN_EXE_spillage")).current_dir(&dir).args(["run", short.to_str().unwrap()]).output().unwrap();
+    assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
+    assert!(String::from_utf8_lossy(&second.stderr).contains("small_rotor-2"), "{}", String::from_utf8_lossy(&second.stderr));
+    assert!(dir.join("results/small_rotor/summary.json").exists() && dir.join("results/small_rotor-2/summary.json").exists());
 }

@@ -181,6 +181,13 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
     // sums of the same numbers in different orders: round-off of a sum of n terms
     rows.push(CheckRow::relative(name, "Σ deposited on the triangles vs Σ per-impact volumes (relative)", SOLVER, on_triangles, law_total, 1e-12));
     rows.extend(budget_rows(name, &case, &state)?);
+    if let (Some(dir), Some(line)) = (plots, section.profile.as_ref()) {
+        let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
+        let pairs: Vec<_> = wear.walls.iter().map(|w| (&walls.walls[w.wall], w)).collect();
+        let depth: Vec<(f64, f64)> =
+            spillage_model::wear::profile::wear_profile(line, &pairs).iter().filter(|b| b.area > 0.0).map(|b| (b.distance, b.depth)).collect();
+        draw_profile(dir, name, &state, &depth, None)?;
+    }
     Ok(rows)
 }
 
@@ -279,25 +286,28 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
     }
     rows.extend(budget_rows(name, &case, &state)?);
     if let Some(dir) = plots {
-        std::fs::create_dir_all(dir)?;
-        let top = peaks.first.1.max(f64::MIN_POSITIVE);
-        let normalised: Vec<(f64, f64)> = depth.iter().map(|(x, d)| (1e3 * x, d / top)).collect();
-        let first = number(base, "first_peak")?;
-        let expected = vec![(1e3 * first, 0.0), (1e3 * first, 1.0)];
-        let title = format!("{name}: wear depth / its peak (t = {:.4} s)", state.time);
-        write_png(
-            &Plot {
-                title: &title,
-                x_label: "distance from the step [mm]",
-                y_label: "depth / peak depth [-]",
-                log_x: false,
-                log_y: false,
-                series: vec![Series { label: "simulated", points: &normalised }, Series { label: "thesis' first peak (≈ 10 mm)", points: &expected }],
-            },
-            &dir.join(format!("{name}_profile.png")),
-        )?;
+        draw_profile(dir, name, &state, &depth, Some(number(base, "first_peak")?))?;
     }
     Ok(rows)
+}
+
+/// The wear profile normalised by its peak, with the expected position of the peak if given:
+/// `DIR/<case>_profile.png`.
+fn draw_profile(dir: &Path, name: &str, state: &State, depth: &[(f64, f64)], expected_peak: Option<f64>) -> Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let top = depth.iter().map(|p| p.1).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let normalised: Vec<(f64, f64)> = depth.iter().map(|(x, d)| (1e3 * x, d / top)).collect();
+    let title = format!("{name}: wear depth / its peak (t = {:.4} s)", state.time);
+    let mut series = vec![Series { label: "simulated", points: &normalised }];
+    let (label, marker);
+    if let Some(x) = expected_peak {
+        label = format!("expected deepest wear ({:.0} mm)", 1e3 * x);
+        marker = vec![(1e3 * x, 0.0), (1e3 * x, 1.0)];
+        series.push(Series { label: &label, points: &marker });
+    }
+    let plot = Plot { title: &title, x_label: "distance along the profile line [mm]", y_label: "depth / peak depth [-]", log_x: false, log_y: false, series };
+    write_png(&plot, &dir.join(format!("{name}_profile.png")))?;
+    Ok(())
 }
 
 /// The largest peak of a profile and the ratio of the largest peak downstream of it, beyond

@@ -54,9 +54,33 @@ impl SolveCounts {
 /// converged): a silently unconverged solve would pass off a wrong state as a result.
 pub fn unconverged(stats: &SolveStats, tolerance: Tolerance) -> Option<String> {
     (stats.iterations >= tolerance.max_iterations && stats.final_residual > tolerance.tolerance).then(|| {
-        format!(
-            "did not converge in {} iterations (normalised residual {:.3e} > {:.1e}); raise [numerics] max_linear_iterations or loosen linear_tolerance",
-            stats.iterations, stats.final_residual, tolerance.tolerance
-        )
+        // a residual that grew is a diverging system, not a slow one: more iterations would
+        // not help (issue 15 item 1: a finer mesh at the same Δt got the advice to raise them)
+        let advice = if stats.final_residual > stats.initial_residual {
+            format!(
+                "the residual grew from {:.3e}: the system diverges (a time step too large for the mesh? lower [time] dt or max_courant, and check the Courant number with `spillage check`)",
+                stats.initial_residual
+            )
+        } else {
+            "raise [numerics] max_linear_iterations or loosen linear_tolerance".to_string()
+        };
+        format!("did not converge in {} iterations (normalised residual {:.3e} > {:.1e}); {advice}", stats.iterations, stats.final_residual, tolerance.tolerance)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_growing_residual_is_reported_as_divergence_not_as_too_few_iterations() {
+        let limit = Tolerance { tolerance: 1e-8, max_iterations: 2000 };
+        let diverging = SolveStats { iterations: 2000, initial_residual: 1e-3, final_residual: 56.29 };
+        let message = unconverged(&diverging, limit).unwrap();
+        assert!(message.contains("diverges") && !message.contains("raise [numerics] max_linear_iterations"), "{message}");
+        let slow = SolveStats { iterations: 2000, initial_residual: 1e-3, final_residual: 1e-6 };
+        assert!(unconverged(&slow, limit).unwrap().contains("raise [numerics] max_linear_iterations"));
+        let converged = SolveStats { iterations: 12, initial_residual: 1e-3, final_residual: 1e-9 };
+        assert!(unconverged(&converged, limit).is_none());
+    }
 }

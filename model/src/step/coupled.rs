@@ -371,7 +371,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         if let Some(phase) = self.fluid.as_mut() {
             let fluid = self.state.fluid.as_mut().expect("checked in new");
             let cells = self.mapping.as_ref().and(self.cell_load.as_ref());
-            let outcome = phase.advance(&ctx, fluid, cells, report)?;
+            // a failed solve says where in the run it failed
+            let outcome = phase.advance(&ctx, fluid, cells, report).map_err(|e| match e {
+                SolverError::LinearSolve(what) => SolverError::LinearSolve(format!("step {}, t = {:e} s: {what}", ctx.step, ctx.time_end())),
+                other => other,
+            })?;
             if !outcome.courant_max.is_finite() {
                 return Err(diverged(format!("Courant number {}", outcome.courant_max)));
             }
