@@ -152,7 +152,10 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         Ok(()) => {
             eprintln!("{}: {} steps to t = {:.6e} s in {wall:.1} s; results in {}", case.case.name, run.steps, state.time, out.display());
             if case.output.paraview {
-                eprintln!("ParaView: open {} (and particles.pvd, walls.pvd); plots in {}", out.join("fluid.pvd").display(), out.join("plots").display());
+                // name the time series this run wrote (a particle-only run has no fluid.pvd)
+                let written: Vec<String> =
+                    ["fluid.pvd", "particles.pvd", "walls.pvd"].iter().filter(|f| out.join(f).exists()).map(|f| out.join(f).display().to_string()).collect();
+                eprintln!("ParaView: open {}; plots in {}", written.join(", "), out.join("plots").display());
             }
             Ok(ExitCode::SUCCESS)
         }
