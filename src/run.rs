@@ -108,8 +108,17 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
 
     let started = Instant::now();
     let mut progress = crate::progress::Progress::new(&case, solver.state());
-    let mut run =
-        Running { case: &case, out: &out, frames: Frames::new(&out, restart_time)?, series: None, restart_time, restart_step, steps: 0, step_seconds: 0.0 };
+    let mut run = Running {
+        case: &case,
+        out: &out,
+        frames: Frames::new(&out, restart_time)?,
+        series: None,
+        restart_time,
+        restart_step,
+        steps: 0,
+        step_seconds: 0.0,
+        outer: OuterLoop::default(),
+    };
     let result = run.time_loop(solver.as_mut(), &mut progress);
     progress.finish();
     let wall = started.elapsed().as_secs_f64();
@@ -126,6 +135,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     summary.set_result("final_time", state.time);
     summary.set_result("final_step", state.step as f64);
+    summary.set_result("outer_loop_capped_steps", run.outer.capped as f64);
     if let Some((_, last, _)) = &run.series {
         for (name, value) in &last.values {
             summary.set_result(name, *value);
@@ -144,6 +154,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     if let Some(particles) = state.particles.as_ref().filter(|_| case.cutter_head.is_none()) {
         eprintln!("{}", particle_exits_line(particles));
+    }
+    if let Some(warning) = run.outer.warning(&case, run.steps) {
+        eprintln!("{warning}");
     }
     for line in crate::head_report::report(&case, state, &out)?.into_iter().chain(crate::wear_report::report(&case, state, &out)?) {
         eprintln!("{line}");
@@ -179,6 +192,38 @@ struct Running<'a> {
     restart_step: Option<u64>,
     steps: u64,
     step_seconds: f64,
+    outer: OuterLoop,
+}
+
+/// Steps whose PIMPLE outer loop stopped at `[numerics] max_outer_iterations` with the pressure
+/// residual still above `p_initial_residual` (issue 15 item 1: a run "completed" with every
+/// step capped and no word about it).
+#[derive(Default)]
+struct OuterLoop {
+    capped: u64,
+    worst_residual: f64,
+}
+
+impl OuterLoop {
+    fn record(&mut self, case: &Case, report: &StepReport) {
+        let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
+            if outer as usize >= case.numerics.max_outer_iterations && residual >= case.numerics.p_initial_residual {
+                self.capped += 1;
+                self.worst_residual = self.worst_residual.max(residual);
+            }
+        }
+    }
+
+    /// The warning to print at the end, if any step was capped.
+    fn warning(&self, case: &Case, steps: u64) -> Option<String> {
+        (self.capped > 0).then(|| {
+            format!(
+                "warning: the outer loop stopped at its cap of {} iterations in {} of {steps} steps with the pressure residual above its target (up to {:.2e} > {:.1e}): those steps are not converged; raise [numerics] max_outer_iterations or lower the time step",
+                case.numerics.max_outer_iterations, self.capped, self.worst_residual, case.numerics.p_initial_residual
+            )
+        })
+    }
 }
 
 impl Running<'_> {
@@ -242,6 +287,7 @@ impl Running<'_> {
             };
             self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));
         }
+        self.outer.record(self.case, report);
         let (writer, last, row) = self.series.as_mut().expect("just created");
         row.clear();
         row.extend([state.step as f64, state.time, state.dt]);

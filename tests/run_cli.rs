@@ -434,3 +434,25 @@ fn a_run_owns_its_results_folder() {
     assert!(String::from_utf8_lossy(&second.stderr).contains("small_rotor-2"), "{}", String::from_utf8_lossy(&second.stderr));
     assert!(dir.join("results/small_rotor/summary.json").exists() && dir.join("results/small_rotor-2/summary.json").exists());
 }
+
+/// Steps that stop at the outer-loop cap unconverged are reported (issue 15 item 1: a run
+/// "completed" with every step capped and no warning).
+#[test]
+fn steps_capped_by_the_outer_loop_are_reported() {
+    let dir = scratch("outer-cap");
+    let case = fluid_case(&dir, 3);
+    let text = std::fs::read_to_string(&case).unwrap().replace("[output]", "[numerics]\nmax_outer_iterations = 1\np_initial_residual = 1e-14\n[output]");
+    std::fs::write(&case, text).unwrap();
+    let out_dir = dir.join("out");
+    let out = spillage(&["run", case.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("warning: the outer loop stopped at its cap of 1 iterations in 3 of 3 steps"), "{err}");
+    let summary = Summary::read(&out_dir.join("summary.json")).unwrap();
+    assert_eq!(summary.results["outer_loop_capped_steps"], 3.0);
+
+    // a converged run says nothing of the kind
+    let quiet = fluid_case(&dir, 2);
+    let out = spillage(&["run", quiet.to_str().unwrap(), "--out", dir.join("quiet").to_str().unwrap()]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("outer loop stopped"));
+}
