@@ -20,6 +20,14 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// [`fluid_case`] with `[numerics]` settings (TOML lines).
+fn fluid_case_with_numerics(dir: &Path, steps: u64, numerics: &str) -> PathBuf {
+    let case = fluid_case(dir, steps);
+    let text = std::fs::read_to_string(&case).unwrap().replace("[output]", &format!("[numerics]\n{numerics}\n[output]"));
+    std::fs::write(&case, text).unwrap();
+    case
+}
+
 /// A small rotor/stator case (sliding interface, BDF2) of `steps` steps.
 fn fluid_case(dir: &Path, steps: u64) -> PathBuf {
     let text = format!(
@@ -365,9 +373,7 @@ fn check_prints_the_derived_numbers() {
 #[test]
 fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() {
     let dir = scratch("unconverged");
-    let case = fluid_case(&dir, 3);
-    let text = std::fs::read_to_string(&case).unwrap().replace("[output]", "[numerics]\nmax_linear_iterations = 1\n[output]");
-    std::fs::write(&case, text).unwrap();
+    let case = fluid_case_with_numerics(&dir, 3, "max_linear_iterations = 1");
     let out_dir = dir.join("out");
     let out = spillage(&["run", case.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
@@ -440,9 +446,7 @@ fn a_run_owns_its_results_folder() {
 #[test]
 fn steps_capped_by_the_outer_loop_are_reported() {
     let dir = scratch("outer-cap");
-    let case = fluid_case(&dir, 3);
-    let text = std::fs::read_to_string(&case).unwrap().replace("[output]", "[numerics]\nmax_outer_iterations = 1\np_initial_residual = 1e-14\n[output]");
-    std::fs::write(&case, text).unwrap();
+    let case = fluid_case_with_numerics(&dir, 3, "max_outer_iterations = 1\np_initial_residual = 1e-14");
     let out_dir = dir.join("out");
     let out = spillage(&["run", case.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
