@@ -1,6 +1,6 @@
 //! Checkpoints: a [`State`] written to disk and read back bit-for-bit.
 //!
-//! Layout: a text header line (`spillage-checkpoint 3 <case name>\n`, 2 the format version), the state in postcard
+//! Layout: a text header line (`spillage-checkpoint 4 <case name>\n`, 2 the format version), the state in postcard
 //! (f64 stored as their 8 bytes, so nothing is rounded), and an FNV-1a 64-bit checksum of the
 //! payload, so a truncated or damaged file is refused instead of silently resuming from garbage.
 //! Writes go to a temporary file in the same folder that is renamed over the target, so a crash
@@ -14,7 +14,7 @@ use crate::state::State;
 const MAGIC: &str = "spillage-checkpoint";
 /// 2: the one-step pipeline (rotor pose stored once, walls without their own angle, particle
 /// exits, the last Courant number); 3: wear (the wear state, wall revisions, impact points).
-const VERSION: u32 = 3;
+const VERSION: u32 = 4;
 
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {

@@ -100,6 +100,9 @@ impl FastFluid {
     /// Missing parts of `state` (the fluid) are filled in.
     pub fn new(case: &Case, mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
         let fluid = case.fluid.as_ref().ok_or_else(|| unsupported("the case has no [fluid] section"))?;
+        if case.turbulence.is_k_epsilon() {
+            return Err(unsupported("[turbulence] model = \"realizable-k-epsilon\" runs on the reference solver only for now (--solver reference)"));
+        }
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
         let body_force = numerics.kinematic_body_force(case.physics.gravity);
