@@ -110,7 +110,7 @@ fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyho
         return rotating_frame::run_check(case, check, full);
     }
     if turbulence::CHECKS.contains(&check) {
-        return turbulence::run_check(case, check, full);
+        return turbulence::run_check(case, check, full, plots);
     }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }

@@ -8,10 +8,14 @@
 //! stress: U⁺(y⁺) against the log law, the bulk velocity against Dean's correlation (through
 //! C_f = 2u_τ²/U_b²), and the independence of U_b from the mesh and the time step.
 
+use std::path::Path;
+
 use anyhow::{anyhow, bail, Context, Result};
 use spillage_analytic::turbulent_channel::{dean_skin_friction, log_law_u_plus};
+use spillage_fast::fluid::FastFluid;
 use spillage_model::case::{Case, MeshSection};
 use spillage_model::mesh::Mesh;
+use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::step::{Coupled, FluidOnly, FluidPhase};
@@ -28,9 +32,9 @@ pub const CHECKS: &[&str] = &["turbulent_channel"];
 const LOG_LAW_KAPPA: f64 = 0.41;
 const LOG_LAW_B: f64 = 5.2;
 
-pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> {
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
-        "turbulent_channel" => channel(case, full),
+        "turbulent_channel" => channel(case, full, plots),
         other => bail!("unknown turbulence check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -56,6 +60,14 @@ pub fn run_channel_reference(case: &Case) -> Result<ChannelResult> {
     let mesh = build_mesh(case)?;
     let mut state = State::default();
     let fluid = ReferenceFluid::new(case, mesh.clone(), &mut state)?;
+    run_channel(case, &mesh, fluid, state)
+}
+
+/// Runs `case` with the fast fluid and measures the channel.
+pub fn run_channel_fast(case: &Case) -> Result<ChannelResult> {
+    let mesh = build_mesh(case)?;
+    let mut state = State::default();
+    let fluid = FastFluid::new(case, mesh.clone(), &mut state)?;
     run_channel(case, &mesh, fluid, state)
 }
 
@@ -119,12 +131,6 @@ impl ChannelGeometry {
         column.sort_by(|a, b| mesh.cell_centres[*a].y.total_cmp(&mesh.cell_centres[*b].y));
         let y_plus = column.iter().map(|&c| (mesh.cell_centres[c].y - self.y_wall) * self.u_tau / self.nu).collect();
         let u_plus = column.iter().map(|&c| fluid.velocity[c][0] / self.u_tau).collect();
-        eprintln!("DEBUG k {:?}", column.iter().map(|&c| turbulence.k[c]).collect::<Vec<_>>());
-        eprintln!("DEBUG eps {:?}", column.iter().map(|&c| turbulence.epsilon[c]).collect::<Vec<_>>());
-        eprintln!(
-            "DEBUG nut/(kappa u_tau y) {:?}",
-            column.iter().map(|&c| turbulence.nu_t[c] / (0.41 * self.u_tau * (mesh.cell_centres[c].y - self.y_wall))).collect::<Vec<_>>()
-        );
         let u_b = self.bulk_velocity(mesh, state);
         // wall shear of the wall function, area-weighted over the wall patch
         let patch = &mesh.patches[self.wall_patch];
@@ -174,11 +180,18 @@ fn param_levels(case: &Case, key: &str) -> Result<Vec<usize>> {
 /// Rows of one channel case (module doc): the log law and Dean at the case's own mesh, the
 /// momentum balance and steadiness, then mesh independence over `levels` (+ `full_levels`) and
 /// time-step independence (Δt/2).
-fn channel(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
+fn channel(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = case.case.name.as_str();
     let base = run_channel_reference(case)?;
-    eprintln!("DEBUG y+ {:?}\nDEBUG U+ {:?}", base.y_plus, base.u_plus);
+    let fast = run_channel_fast(case)?;
     let mut rows = result_rows(name, "reference", &base)?;
+    rows.extend(result_rows(name, "fast", &fast)?);
+    // the steady profiles of the two solvers (their per-step agreement is tests/fast_equivalence.rs)
+    let worst = base.u_plus.iter().zip(&fast.u_plus).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / base.bulk_velocity_plus;
+    rows.push(CheckRow::at_most(name, "fast vs reference max |dU+| / U_b+", "fast", worst, 1e-8));
+    if let Some(dir) = plots {
+        draw_profile(dir, name, &base)?;
+    }
     let dt = case.time.dt.ok_or_else(|| anyhow!("{}: the channel check needs a fixed time.dt", case.path.display()))?;
     let n_y = match &case.mesh {
         Some(MeshSection::Box { cells, .. }) => cells[1],
@@ -231,4 +244,18 @@ pub fn result_rows(name: &str, solver: &str, r: &ChannelResult) -> Result<Vec<Ch
         // steady: U_b changes by less than 1e-9 over the last tenth of the steps
         CheckRow::at_most(name, "U_b drift over the last 10 % of steps (rel)", solver, r.bulk_drift, 1e-9),
     ])
+}
+
+/// U⁺(y⁺) of the run against the log law, log-scaled y⁺: `DIR/<case>_u_plus.png`.
+fn draw_profile(dir: &Path, name: &str, r: &ChannelResult) -> Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let computed: Vec<(f64, f64)> = r.y_plus.iter().copied().zip(r.u_plus.iter().copied()).collect();
+    let (lo, hi) = (r.y_plus[0].min(30.0), r.y_plus[r.y_plus.len() - 1]);
+    let law: Vec<(f64, f64)> = (0..=80).map(|i| lo * (hi / lo).powf(i as f64 / 80.0)).map(|y| (y, y.ln() / LOG_LAW_KAPPA + LOG_LAW_B)).collect();
+    let title = format!("{name}: mean velocity in wall units (realizable k-epsilon, wall functions)");
+    let law_label = format!("log law, kappa = {LOG_LAW_KAPPA}, B = {LOG_LAW_B}");
+    let series = vec![Series { label: "computed (cell centres)", points: &computed }, Series { label: &law_label, points: &law }];
+    let plot = Plot { title: &title, x_label: "y+ = u_tau y / nu [-]", y_label: "U+ = u / u_tau [-]", log_x: true, log_y: false, series };
+    write_png(&plot, &dir.join(format!("{name}_u_plus.png")))?;
+    Ok(())
 }

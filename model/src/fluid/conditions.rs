@@ -82,6 +82,20 @@ impl Conditions {
         Ok(Conditions { conditions, patch_condition, has_fixed_pressure, wall })
     }
 
+    /// Per condition: the mesh patch name of a wall condition (the y⁺ diagnostics of the
+    /// turbulence model), `None` for other conditions.
+    pub fn wall_patch_names(&self, mesh: &Mesh) -> Vec<Option<String>> {
+        let mut names = vec![None; self.conditions.len()];
+        for (patch, condition) in mesh.patches.iter().zip(&self.patch_condition) {
+            if let Some(c) = condition {
+                if self.wall[*c] {
+                    names[*c] = Some(patch.name.clone());
+                }
+            }
+        }
+        names
+    }
+
     /// Fixed velocity at a boundary face centre, if `condition` fixes one. `rotor_velocity` is
     /// the rigid velocity of the rotor at a point (added on `rotating` walls; `None` without a
     /// rotor).

@@ -34,8 +34,9 @@ pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
 /// Uniform `[turbulence] initial_k` and `initial_epsilon` for a k–ε case, `None` for a laminar one.
 fn initial_turbulence(case: &Case, mesh: &Mesh) -> Option<crate::turbulence::TurbulenceState> {
     let t = &case.turbulence;
-    t.is_k_epsilon()
-        .then(|| crate::turbulence::TurbulenceState::uniform(mesh.n_cells(), mesh.n_faces() - mesh.n_internal_faces, t.initial_k, t.initial_epsilon))
+    t.is_k_epsilon().then(|| {
+        crate::turbulence::TurbulenceState::uniform(mesh.n_cells(), mesh.n_faces() - mesh.n_internal_faces, t.initial_k, t.initial_epsilon, t.constants.c_mu)
+    })
 }
 
 /// The fluid state of `state` ready for a run on `mesh`: the initial state when there is none,

@@ -23,14 +23,17 @@ pub struct TurbulenceState {
 }
 
 impl TurbulenceState {
-    /// Uniform k and ε, no eddy viscosity yet (the first step runs with ν, then the model sets
-    /// ν_t from the first solved k and ε).
-    pub fn uniform(n_cells: usize, n_boundary_faces: usize, k: f64, epsilon: f64) -> Self {
+    /// Uniform k and ε with the eddy viscosity they give at the standard C_μ,
+    /// ν_t = C_μ k²/ε, in the cells and on every boundary face (the first step's momentum
+    /// equation; no velocity gradient is known yet for the realizable C_μ, and starting from
+    /// ν_t = 0 would run the first step laminar, far from the turbulent solution).
+    pub fn uniform(n_cells: usize, n_boundary_faces: usize, k: f64, epsilon: f64, c_mu: f64) -> Self {
+        let nu_t = c_mu * k * k / epsilon;
         Self {
             k: vec![k; n_cells],
             epsilon: vec![epsilon; n_cells],
-            nu_t: vec![0.0; n_cells],
-            nu_t_boundary: vec![0.0; n_boundary_faces],
+            nu_t: vec![nu_t; n_cells],
+            nu_t_boundary: vec![nu_t; n_boundary_faces],
             y_plus: vec![0.0; n_boundary_faces],
         }
     }

@@ -57,7 +57,7 @@ impl ReferenceFluid {
         let rotor = RotorMotion::from_case(case, &mesh).map_err(SolverError::Unsupported)?;
 
         prepare_fluid_state(state, case, &mesh).map_err(SolverError::Unsupported)?;
-        let turbulence = turbulence::from_case(&case.turbulence, wall_patch_names(&mesh, &conditions));
+        let turbulence = turbulence::from_case(&case.turbulence, conditions.wall_patch_names(&mesh));
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
@@ -288,19 +288,6 @@ impl ReferenceFluid {
         self.turbulence.correct(&turbulence_inputs, fluid, &mut report.values)?;
         Ok(FluidStepOutcome { courant_max: courant })
     }
-}
-
-/// Per case condition: the mesh patch name of a wall condition (y⁺ diagnostics), else `None`.
-fn wall_patch_names(mesh: &Mesh, conditions: &Conditions) -> Vec<Option<String>> {
-    let mut names = vec![None; conditions.conditions.len()];
-    for (patch, condition) in mesh.patches.iter().zip(&conditions.patch_condition) {
-        if let Some(c) = condition {
-            if conditions.wall[*c] {
-                names[*c] = Some(patch.name.clone());
-            }
-        }
-    }
-    names
 }
 
 /// Per link, the time-derivative flux correction divided by rAU_f (module doc step 4d, OpenFOAM
