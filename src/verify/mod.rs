@@ -10,6 +10,7 @@ pub mod dem;
 pub mod fluid;
 pub mod rotating_frame;
 pub mod turbulence;
+pub mod turbulence_step;
 pub mod wear;
 
 use std::path::{Path, PathBuf};

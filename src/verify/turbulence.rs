@@ -25,7 +25,7 @@ use super::fluid::build_mesh;
 use super::CheckRow;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["turbulent_channel"];
+pub const CHECKS: &[&str] = &["turbulent_channel", "backward_facing_step"];
 
 /// The log-law constants the issue names (κ = 0.41, B = 5.2), independent of the wall
 /// function's own E (9.8, i.e. B = 5.57): the 5 % tolerance absorbs that difference.
@@ -35,6 +35,7 @@ const LOG_LAW_B: f64 = 5.2;
 pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
         "turbulent_channel" => channel(case, full, plots),
+        "backward_facing_step" => super::turbulence_step::backward_facing_step(case, plots),
         other => bail!("unknown turbulence check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -241,8 +242,9 @@ pub fn result_rows(name: &str, solver: &str, r: &ChannelResult) -> Result<Vec<Ch
         // the momentum balance of a converged steady state; 1e-6 leaves the residual unsteadiness
         // of the last steps (measured as the drift row)
         CheckRow::relative(name, "wall shear stress / u_tau^2", solver, r.wall_shear_ratio, 1.0, 1e-6),
-        // steady: U_b changes by less than 1e-9 over the last tenth of the steps
-        CheckRow::at_most(name, "U_b drift over the last 10 % of steps (rel)", solver, r.bulk_drift, 1e-9),
+        // steady: U_b changes by less than 1e-6 over the last tenth of the steps, four orders
+        // below the 2 % of the independence rows, so the steady value is unambiguous
+        CheckRow::at_most(name, "U_b drift over the last 10 % of steps (rel)", solver, r.bulk_drift, 1e-6),
     ])
 }
 
