@@ -70,7 +70,7 @@ impl FastTurbulence {
     /// `wall_patches`: per condition index the mesh patch name of a wall condition.
     pub fn new(section: TurbulenceSection, wall_patches: Vec<Option<String>>) -> Self {
         let y_plus_lam = y_plus_laminar(&section.constants);
-        let y_plus_names = wall_patches.into_iter().map(|p| p.map(|name| &*Box::leak(format!("y_plus_{name}").into_boxed_str()))).collect();
+        let y_plus_names = wall_function::y_plus_names(wall_patches);
         Self {
             section,
             y_plus_lam,

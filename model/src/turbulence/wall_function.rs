@@ -48,6 +48,13 @@ pub fn wall_cell_production(nu: f64, nu_t_wall: f64, slip_speed: f64, k: f64, y:
     (nu + nu_t_wall) * slip_speed / y * c.c_mu.powf(0.25) * k.max(0.0).sqrt() / (c.kappa * y)
 }
 
+/// The `y_plus_<patch>` diagnostic name of each wall condition (per condition index, from
+/// `Conditions::wall_patch_names`). Report names are `&'static str`; these few live as long as
+/// the program.
+pub fn y_plus_names(wall_patches: Vec<Option<String>>) -> Vec<Option<&'static str>> {
+    wall_patches.into_iter().map(|p| p.map(|name| &*Box::leak(format!("y_plus_{name}").into_boxed_str()))).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -114,8 +114,7 @@ pub struct RealizableKEpsilon {
 impl RealizableKEpsilon {
     pub fn new(section: TurbulenceSection, wall_patches: Vec<Option<String>>) -> Self {
         let y_plus_lam = y_plus_laminar(&section.constants);
-        // diagnostic names live as long as the run (a handful of patches per solver)
-        let y_plus_names = wall_patches.into_iter().map(|p| p.map(|name| &*Box::leak(format!("y_plus_{name}").into_boxed_str()))).collect();
+        let y_plus_names = wall_function::y_plus_names(wall_patches);
         Self { section, y_plus_lam, y_plus_names }
     }
 }
