@@ -72,7 +72,7 @@ def read_foam(foam):
     return dict(time=t, u=u, k=k, eps=eps, nut=nut, centres=c, nut_wall=float(np.mean(nut_w)), prev=prev)
 
 
-# -- spillage (ascii .vtu for u, checkpoint for k, ε, ν_t) ------------------------------------
+# -- spillage (ascii .vtu: velocity, k, epsilon, nu_t, wall-cell y_plus) -----------------------
 
 
 def read_vtu(path):
@@ -87,61 +87,29 @@ def read_vtu(path):
     offsets = arrays["offsets"].astype(int)
     starts = np.concatenate([[0], offsets[:-1]])
     centres = np.array([points[conn[s:e]].mean(axis=0) for s, e in zip(starts, offsets)])
-    return n_cells, centres, arrays["velocity"].reshape(n_cells, 3)
+    for name in ("velocity", "k", "epsilon", "nu_t", "y_plus"):
+        assert name in arrays, f"{path}: no `{name}` cell array (a laminar run?)"
+    return n_cells, centres, arrays
 
 
-def _varint(buf, pos):
-    value, shift = 0, 0
-    while True:
-        b = buf[pos]
-        pos += 1
-        value |= (b & 0x7F) << shift
-        if b < 0x80:
-            return value, pos
-        shift += 7
+def wall_eddy_viscosity(y_plus, nu, kappa, wall_e):
+    """nutkWallFunction: ν(κy⁺/ln(Ey⁺) − 1) above the laminar switch y⁺ = ln(Ey⁺)/κ, else 0."""
+    y_lam = 11.0
+    for _ in range(10):
+        y_lam = math.log(max(wall_e * y_lam, 1.0)) / kappa
+    return nu * (kappa * y_plus / math.log(wall_e * y_plus) - 1.0) if y_plus > y_lam else 0.0
 
 
-def read_turbulence(ckpt, n_cells):
-    """k, ε, ν_t per cell, ν_t and y⁺ per boundary face from a checkpoint: the postcard payload
-    holds FluidState.turbulence as Some(1) then five Vec<f64> (varint length + raw LE f64):
-    k, ε, ν_t (n_cells each), nu_t_boundary, y_plus (n_boundary each). Found by that
-    pattern, which must occur exactly once."""
-    data = open(ckpt, "rb").read()
-    payload = data[data.index(b"\n") + 1 + 8:-8]
-    hits = []
-    for start in range(len(payload) - 3):
-        if payload[start] != 1:
-            continue
-        try:
-            pos, vecs = start + 1, []
-            for i in range(5):
-                n, pos = _varint(payload, pos)
-                if i < 3 and n != n_cells or n > len(payload):
-                    raise ValueError
-                vecs.append(np.frombuffer(payload[pos:pos + 8 * n], "<f8"))
-                pos += 8 * n
-            if vecs[3].size != vecs[4].size or pos > len(payload):
-                raise ValueError
-            k, eps, nut = vecs[:3]
-            if np.all(np.isfinite(k)) and np.all(k > 0) and np.all(eps > 0) and np.all(nut >= 0) and np.all(vecs[4] >= 0):
-                hits.append(vecs)
-        except (ValueError, IndexError):
-            continue
-    assert len(hits) == 1, f"{ckpt}: found the turbulence state {len(hits)} times (checkpoint layout changed?)"
-    k, eps, nut, nut_b, y_plus = hits[0]
-    return dict(k=k, eps=eps, nut=nut, nut_wall=float(np.mean(nut_b[y_plus > 0])), y_plus=float(np.mean(y_plus[y_plus > 0])))
-
-
-def read_spillage(out):
+def read_spillage(out, nu, kappa, wall_e):
     pvd = ET.parse(os.path.join(out, "fluid.pvd")).getroot()
     frames = sorted((float(d.get("timestep")), d.get("file")) for d in pvd.iter("DataSet"))
     t, rel = frames[-1]
-    n, centres, u = read_vtu(os.path.join(out, rel))
-    ckpts = sorted(f for f in os.listdir(os.path.join(out, "checkpoints")) if f.endswith(".ckpt"))
-    turb = read_turbulence(os.path.join(out, "checkpoints", ckpts[-1]), n)
+    n, centres, arrays = read_vtu(os.path.join(out, rel))
+    y_plus = float(np.mean(arrays["y_plus"][arrays["y_plus"] > 0]))
     summary = json.load(open(os.path.join(out, "summary.json")))
     series = np.genfromtxt(os.path.join(out, "series.csv"), delimiter=",", names=True)
-    return dict(time=t, u=u, centres=centres, summary=summary, series=series, **turb)
+    return dict(time=t, u=arrays["velocity"].reshape(n, 3), k=arrays["k"], eps=arrays["epsilon"], nut=arrays["nu_t"],
+                centres=centres, y_plus=y_plus, nut_wall=wall_eddy_viscosity(y_plus, nu, kappa, wall_e), summary=summary, series=series)
 
 
 # -- comparison -------------------------------------------------------------------------------
@@ -172,10 +140,11 @@ def main(argv):
     steps = case["time"]["steps"]
     force = case["numerics"]["body_force"][0]
     h = y1 - y0
-    c_mu = case["turbulence"].get("constants", {}).get("c_mu", 0.09)
+    constants = case["turbulence"].get("constants", {})
+    c_mu = constants.get("c_mu", 0.09)
 
     f = read_foam(a.foam)
-    s = read_spillage(a.spillage)
+    s = read_spillage(a.spillage, nu, constants.get("kappa", 0.41), constants.get("wall_e", 9.8))
     n_cells = len(s["u"])
     if f["centres"] is None:  # blockMesh order: x fastest, then y, then z
         i = np.arange(len(f["u"]))
@@ -200,7 +169,7 @@ def main(argv):
         nf, ns = prof["foam", "nut"][j], prof["spillage", "nut"][j]
         print(f"{y[j]:7.4f} | {uf:9.5f} {us:9.5f} {(us - uf) / ub_f:8.1e} | {kf:8.5f} {ks:8.5f} {(ks - kf) / kf:8.1e} | "
               f"{ef:8.4f} {es:8.4f} {(es - ef) / ef:8.1e} | {nf:9.6f} {ns:9.6f} {(ns - nf) / nf:8.1e}")
-    print(f"wall nu_t (y_min): OpenFOAM {f['nut_wall']:.8g}, spillage {s['nut_wall']:.8g}")
+    print(f"wall nu_t (y_min): OpenFOAM {f['nut_wall']:.8g}, spillage {s['nut_wall']:.8g} (from its wall-cell y+)")
     print(f"spread over x within a row (max, both codes): U_x {max(prof['foam', 'u_spread'], prof['spillage', 'u_spread']):.1e}")
 
     du = np.abs(prof["spillage", "u"] - prof["foam", "u"]).max() / ub_f
