@@ -139,6 +139,25 @@ fn fast_matches_reference_on_the_backward_facing_step() {
     compare("backward_facing_step coarse", &c, 10, 1);
 }
 
+/// The step's check on a coarse copy (Δx = H/2, Δy = H/4: 2 448 cells, 400 steps of 0.5 s),
+/// snapshotted: the full case takes minutes (`spillage verify`), this one seconds. The coarse
+/// mesh reattaches early (measured 4.49 H); the snapshot guards the number, not the physics.
+#[test]
+fn backward_facing_step_coarse() {
+    let mut c = load("cases/verification/turbulence/backward_facing_step.toml");
+    if let Some(spillage_model::case::MeshSection::Box { cells, .. }) = &mut c.mesh {
+        *cells = [68, 36, 1];
+    }
+    c.time.dt = Some(0.5);
+    c.time.steps = Some(400);
+    let r = spillage::verify::turbulence_step::run_step(&c).unwrap_or_else(|e| panic!("{e:#}"));
+    eprintln!("coarse step: x_r = {:.4} H, spread {:.3e}", r.reattachment, r.reattachment_spread);
+    assert!(r.reattachment > 3.0 && r.reattachment < 8.0, "x_r = {} H: not a separated step flow", r.reattachment);
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+        insta::assert_json_snapshot!("turbulence_backward_facing_step_coarse", (format!("{:.2}", r.reattachment), r.reattachment_spread < 0.05));
+    });
+}
+
 #[test]
 fn one_and_two_threads_give_identical_bits() {
     let c = turbulent("cases/verification/fluid/couette_sliding.toml");
