@@ -126,53 +126,46 @@ impl FastTurbulence {
         let (nu, bnd, vol) = (inputs.nu, disc.boundary, disc.cell_volumes);
         let n_internal = disc.links.n_internal;
 
-        // 1. strain invariants, ∇·φ, production from the previous ν_t
+        // 1. per cell: strain invariants, ∇·φ (links in ascending order, then the cell's
+        //    boundary faces, as the reference sums), and the wall functions with the previous k
+        //    (production and the fixed ε of wall cells) or G = ν_t* ∇u : dev(2 sym ∇u)
         {
-            let strain = Out::of(&mut self.strain);
-            let div = Out::of(&mut self.divergence);
+            let (strain, div) = (Out::of(&mut self.strain), Out::of(&mut self.divergence));
+            let (production, fixed_epsilon) = (Out::of(&mut self.production), Out::of(&mut self.fixed_epsilon));
             let adj = disc.adjacency;
+            let (k_old, nu_t_old) = (&state.k, &state.nu_t);
+            let (y_plus_lam, wall) = (self.y_plus_lam, &disc.conditions.wall);
             par_for(disc.n_cells(), |cell| {
                 let mut d = 0.0;
-                for k in adj.row_start[cell] as usize..adj.row_start[cell + 1] as usize {
-                    let e = adj.entry[k] as usize;
+                for e_index in adj.row_start[cell] as usize..adj.row_start[cell + 1] as usize {
+                    let e = adj.entry[e_index] as usize;
                     let l = e >> 1;
                     // e & 1 == 1: the cell is the link's owner (as the gradient kernels read it)
                     d += if e & 1 == 1 { inputs.link_flux[l] } else { -inputs.link_flux[l] };
                 }
+                let (mut count, mut eps, mut prod) = (0usize, 0.0, 0.0);
+                for &b in disc.boundary_faces_of(cell) {
+                    let b = b as usize;
+                    d += inputs.boundary_flux[b];
+                    if wall[bnd.condition[b] as usize] {
+                        let (y, k) = (bnd.normal_distance[b], k_old[cell]);
+                        let y_plus = wall_function::y_plus(k, y, nu, &c);
+                        let nu_t_wall = wall_function::wall_eddy_viscosity(y_plus, nu, y_plus_lam, &c);
+                        let slip = (vec_of(inputs.velocity, cell) - inputs.boundary_velocity[b]).norm();
+                        count += 1;
+                        eps += wall_function::wall_cell_dissipation(k, y, &c);
+                        prod += wall_function::wall_cell_production(nu, nu_t_wall, slip, k, y, &c);
+                    }
+                }
+                let rate = StrainRate::of_gradient(&inputs.velocity_gradient[cell]);
+                let (g, fixed) = if count == 0 { (nu_t_old[cell] * rate.production_per_nu_t, f64::NAN) } else { (prod / count as f64, eps / count as f64) };
                 unsafe {
-                    strain.set(cell, StrainRate::of_gradient(&inputs.velocity_gradient[cell]));
-                    div.set(cell, d);
+                    strain.set(cell, rate);
+                    div.set(cell, d / vol[cell]);
+                    production.set(cell, g);
+                    fixed_epsilon.set(cell, fixed);
                 }
             });
-        }
-        // boundary fluxes and the wall functions with the previous k, cell by cell in the
-        // order of the cell's boundary faces (the reference sums in boundary-face order, which
-        // is the same order per cell)
-        for cell in 0..disc.n_cells() {
-            let mut d = self.divergence[cell];
-            let (mut count, mut eps, mut prod) = (0usize, 0.0, 0.0);
-            for &b in disc.boundary_faces_of(cell) {
-                let b = b as usize;
-                d += inputs.boundary_flux[b];
-                if self.is_wall(&disc, b) {
-                    let y = bnd.normal_distance[b];
-                    let k = state.k[cell];
-                    let y_plus = wall_function::y_plus(k, y, nu, &c);
-                    let nu_t_wall = wall_function::wall_eddy_viscosity(y_plus, nu, self.y_plus_lam, &c);
-                    let slip = (vec_of(inputs.velocity, cell) - inputs.boundary_velocity[b]).norm();
-                    count += 1;
-                    eps += wall_function::wall_cell_dissipation(k, y, &c);
-                    prod += wall_function::wall_cell_production(nu, nu_t_wall, slip, k, y, &c);
-                }
-            }
-            self.divergence[cell] = d / vol[cell];
-            if count == 0 {
-                self.production[cell] = state.nu_t[cell] * self.strain[cell].production_per_nu_t;
-                self.fixed_epsilon[cell] = f64::NAN;
-            } else {
-                self.production[cell] = prod / count as f64;
-                self.fixed_epsilon[cell] = eps / count as f64;
-            }
         }
 
         // 2. ε, then k with the new ε
