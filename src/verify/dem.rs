@@ -14,18 +14,22 @@ use spillage_model::particles::{initial_state, Particle, ParticleState};
 use spillage_model::walls::settings::ShapeSection;
 
 use super::dem_rig::{solver, DemRig};
+use super::figures::{draw, Axes, Curve};
 use super::CheckRow;
+use std::path::Path;
 
 /// Checks implemented here.
 pub const CHECKS: &[&str] =
     &["dem_hertz_elastic", "dem_dry_restitution", "dem_wet_restitution", "dem_oblique", "dem_moving_wall", "dem_tessellated_plane", "dem_pile"];
 
-pub fn run_check(case: &Case, check: &str, full: bool) -> anyhow::Result<Vec<CheckRow>> {
+/// Runs `check`; with `plots`, draws its figure there (wet restitution against the Stokes number
+/// with the Legendre law; rebound angle against impact angle with Walton's hard-sphere model).
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
     match check {
         "dem_hertz_elastic" => hertz_elastic(case),
         "dem_dry_restitution" => dry_restitution(case),
-        "dem_wet_restitution" => wet_restitution(case),
-        "dem_oblique" => oblique(case),
+        "dem_wet_restitution" => wet_restitution(case, plots),
+        "dem_oblique" => oblique(case, plots),
         "dem_moving_wall" => moving_wall(case),
         "dem_tessellated_plane" => tessellated_plane(case),
         "dem_pile" => pile(case, full),
@@ -291,8 +295,10 @@ fn dry_restitution(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
 
 /// Check 3: wet restitution against the Legendre law, sphere approaching a wall in still fluid
 /// with drag, added mass and buoyancy. St is set through the viscosity at a fixed approach speed.
-fn wet_restitution(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
+fn wet_restitution(case: &Case, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
     let name = &case.case.name;
+    let mut measured_points = Vec::new();
+    let mut e_dry_used = None;
     let applies_from = number(case, "law_applies_from_stokes")?;
     let no_rebound_below = number(case, "no_rebound_below_restitution")?;
     let mut rows = Vec::new();
@@ -316,6 +322,8 @@ fn wet_restitution(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
         let stokes = stokes_number_with_added_mass(density, rho_f, impact.approach, diameter, nu, 0.5)?;
         let law = legendre_wet_restitution(e_dry, stokes)?;
         let measured = impact.rebound.max(0.0) / impact.approach;
+        measured_points.push((stokes, measured));
+        e_dry_used = Some(e_dry);
         if law >= no_rebound_below && stokes >= applies_from {
             // 3 % (issue #5) where the law applies.
             rows.push(CheckRow::relative(name, format!("e_wet at St_AM = {stokes:.4}"), SOLVER, measured, law, 0.03));
@@ -324,12 +332,29 @@ fn wet_restitution(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
             rows.push(CheckRow::at_most(name, format!("rebound/approach at St_AM = {stokes:.4} (no rebound)"), SOLVER, measured, no_rebound_below));
         }
     }
+    if let (Some(e_dry), true) = (e_dry_used, plots.is_some()) {
+        let (lo, hi) = measured_points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), (st, _)| (lo.min(*st), hi.max(*st)));
+        let grid: Vec<f64> = (0..=200).map(|k| (0.5 * lo) * (2.0 * hi / (0.5 * lo)).powf(k as f64 / 200.0)).collect();
+        let law: Vec<(f64, f64)> = grid.iter().map(|&st| Ok((st, legendre_wet_restitution(e_dry, st)?))).collect::<anyhow::Result<_>>()?;
+        draw(
+            plots,
+            name,
+            &Axes {
+                title: &format!("{name}: wet restitution against the Stokes number"),
+                x: "Stokes number St_AM (with added mass) [−]",
+                y: "e_wet = rebound / approach speed [−]",
+                log_x: true,
+                log_y: false,
+            },
+            &[Curve::computed("computed (reference DEM)", measured_points), Curve::exact(format!("Legendre law, e_dry = {e_dry}"), law)],
+        )?;
+    }
     Ok(rows)
 }
 
 /// Check 4: oblique impacts against Walton's hard-sphere model (sphere–wall, or two equal
 /// spheres with relative velocities, particle-verification.md §1.6).
-fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
+fn oblique(case: &Case, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
     let name = &case.case.name;
     let state0 = particles(case)?;
     let m = &materials(case)?[state0.particles[0].material];
@@ -388,6 +413,7 @@ fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
     let slip_limit = 1.2 * walton.slip_offset();
     // A tangential restitution is physical only in [−1, 1].
     let mut rows = vec![CheckRow::at_most(name, format!("|e_t| measured at {smallest}° (Walton's stick input)"), SOLVER, e_t, 1.0)];
+    let mut measured_angles = Vec::new();
     for theta in angles {
         let psi_in = theta.to_radians().tan();
         if psi_in > stick_limit && psi_in < slip_limit {
@@ -410,6 +436,7 @@ fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
         });
         let zeta = (psi_out / e_measured).atan().to_degrees();
         let zeta_hard = (hard.contact_velocity() / e_n).atan().to_degrees();
+        measured_angles.push((theta, zeta, regime));
         rows.push(CheckRow {
             error: (zeta - zeta_hard).abs() / theta,
             ..CheckRow::absolute(name, format!("rebound angle [°] at {theta}° ({regime}), error/θ_in"), SOLVER, zeta, zeta_hard, 0.05)
@@ -417,6 +444,38 @@ fn oblique(case: &Case) -> anyhow::Result<Vec<CheckRow>> {
     }
     for row in rows.iter_mut() {
         row.pass = row.error <= row.tolerance;
+    }
+    if plots.is_some() {
+        // Walton's branches where the soft contact follows them (the regimes above)
+        let branch = |model: &WaltonModel, from: f64, to: f64| -> anyhow::Result<Vec<(f64, f64)>> {
+            (0..=100)
+                .map(|k| from + (to - from) * k as f64 / 100.0)
+                .map(|theta: f64| {
+                    let hard = sphere_wall_rebound(model, 1.0, theta.to_radians().tan(), 0.0)?;
+                    Ok((theta, (hard.contact_velocity() / e_n).atan().to_degrees()))
+                })
+                .collect()
+        };
+        let stick = branch(&walton, 0.5, stick_limit.atan().to_degrees())?;
+        let slip = branch(&walton_slip, slip_limit.atan().to_degrees(), 89.0)?;
+        draw(
+            plots,
+            name,
+            &Axes {
+                title: &format!("{name}: rebound angle against impact angle"),
+                x: "impact angle θ_in from the normal [°]",
+                y: "rebound angle ζ from the normal [°]",
+                log_x: false,
+                log_y: false,
+            },
+            &[
+                // one series per regime: no line across the stick–slip range, which is not compared
+                Curve::computed("computed (reference DEM), stick", measured_angles.iter().filter(|m| m.2 == "stick").map(|m| (m.0, m.1)).collect()),
+                Curve::computed("computed (reference DEM), gross slip", measured_angles.iter().filter(|m| m.2 == "slip").map(|m| (m.0, m.1)).collect()),
+                Curve::exact(format!("Walton hard sphere, stick (e_t = {e_t:.2})"), stick),
+                Curve::exact("Walton hard sphere, gross slip", slip),
+            ],
+        )?;
     }
     Ok(rows)
 }
