@@ -16,6 +16,7 @@ use spillage_model::state_diff::{diff, StateDiff};
 use spillage_model::step::{Coupled, FluidPhase};
 use spillage_reference::dem::ReferenceDem;
 use spillage_reference::fluid::ReferenceFluid;
+use spillage_reference::wear::ReferenceWear;
 
 use super::CheckRow;
 
@@ -177,10 +178,16 @@ fn fluid_only<F: FluidPhase + 'static>(case: &Case, make: fn(&Case, &mut State) 
     Ok(Box::new(Coupled::fluid_only(case, state, fluid)?))
 }
 
-fn coupled<F: FluidPhase + 'static>(case: &Case, make: fn(&Case, &mut State) -> Result<F>) -> Result<Box<dyn Solver>> {
+/// A coupled run of `case` with the `make` fluid and the reference DEM (and the reference wear
+/// phase when the case has `[wear]`: both fluid solvers run with the same one).
+fn coupled<F: FluidPhase + Send + 'static>(case: &Case, make: fn(&Case, &mut State) -> Result<F>) -> Result<Box<dyn Solver>> {
     let mut state = State::default();
     let fluid = make(case, &mut state)?;
     let dem = ReferenceDem::new(case, &mut state)?;
+    if case.wear.is_some() {
+        let wear = ReferenceWear::new(case, &mut state)?;
+        return Ok(Box::new(Coupled::new(case, state, Some(fluid), Some(dem))?.with_wear(Box::new(wear))?));
+    }
     Ok(Box::new(Coupled::new(case, state, Some(fluid), Some(dem))?))
 }
 
