@@ -101,7 +101,7 @@ impl Equivalence {
 
 /// Steps both solvers `reference` and `fast` for `steps` steps, comparing after every step.
 pub fn step_by_step(reference: &mut dyn Solver, fast: &mut dyn Solver, steps: u64) -> Result<Equivalence> {
-    let mut fields: Vec<(String, f64)> = Vec::new();
+    let mut fields: std::collections::BTreeMap<String, f64> = Default::default();
     let mut out = Equivalence { steps, fields: Vec::new(), worst: 0.0, worst_step: 0, worst_report: String::new(), reference_seconds: 0.0, fast_seconds: 0.0 };
     for step in 1..=steps {
         let started = std::time::Instant::now();
@@ -116,11 +116,9 @@ pub fn step_by_step(reference: &mut dyn Solver, fast: &mut dyn Solver, steps: u6
         }
         let d = diff(reference.state(), fast.state());
         let errors = field_errors(reference.state(), &d).with_context(|| format!("step {step}"))?;
-        if fields.is_empty() {
-            fields = errors.iter().map(|(n, _)| (n.clone(), 0.0)).collect();
-        }
-        for ((name, worst), (other, e)) in fields.iter_mut().zip(&errors) {
-            debug_assert_eq!(name, other);
+        // fields come and go (contact records appear with the first contact): keyed by name
+        for (name, e) in &errors {
+            let worst = fields.entry(name.clone()).or_insert(0.0);
             *worst = worst.max(*e);
         }
         let step_worst = errors.iter().fold(0.0f64, |m, (_, e)| m.max(*e));
@@ -130,7 +128,7 @@ pub fn step_by_step(reference: &mut dyn Solver, fast: &mut dyn Solver, steps: u6
             out.worst_report = d.report();
         }
     }
-    out.fields = fields;
+    out.fields = fields.into_iter().collect();
     Ok(out)
 }
 
