@@ -485,6 +485,33 @@ mod tests {
     }
 
     #[test]
+    fn styled_plots_and_bar_charts_write_pngs_and_refuse_bad_input() {
+        let dir = test_dir::fresh("plot_styled");
+        let computed = series_points(4, |h| 0.3 * h.powi(-2));
+        let exact = series_points(40, |h| 0.3 * h.powi(-2));
+        let plot = Plot {
+            title: "styled",
+            x_label: "h [m]",
+            y_label: "error [-]",
+            log_x: true,
+            log_y: true,
+            series: vec![Series { label: "computed", points: &computed }, Series { label: "exact", points: &exact }, Series { label: "guide", points: &exact }],
+        };
+        let path = dir.join("styled.png");
+        write_png_styled(&plot, &[Style::Computed, Style::Exact, Style::Guide], &path).unwrap();
+        assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        let bars = [Bar { label: "exactly equal", value: 0.0 }, Bar { label: "a case", value: 3e-12 }, Bar { label: "another case", value: 2e-9 }];
+        let path = dir.join("bars.png");
+        write_bar_chart_png("bars", "difference [-]", &bars, 1e-14, Some(("bound", 1e-8)), &path).unwrap();
+        assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        write_bar_chart_png("one bar", "difference [-]", &bars[1..2], 1e-14, None, &dir.join("one.png")).unwrap();
+        assert!(write_bar_chart_png("none", "d", &[], 1e-14, None, &dir.join("none.png")).unwrap_err().to_string().contains("no bars"));
+        let nan = [Bar { label: "broken", value: f64::NAN }];
+        assert!(matches!(write_bar_chart_png("nan", "d", &nan, 1e-14, None, &dir.join("nan.png")), Err(OutputError::NonFinite { .. })));
+        assert!(write_bar_chart_png("floor", "d", &bars, 0.0, None, &dir.join("floor.png")).is_err());
+    }
+
+    #[test]
     fn degenerate_data_draws_without_panicking() {
         let dir = test_dir::fresh("plot_degenerate");
         let cases: [&[(f64, f64)]; 5] = [
