@@ -82,6 +82,11 @@ enum Command {
         /// the analytic curve, cloud velocity against particle fraction, …
         #[arg(long)]
         plots: Option<PathBuf>,
+        /// Write the verification report into this folder: report.md (summary with pass/fail and
+        /// times per solver, each case's description, reference and rows, the fast-vs-reference
+        /// equivalence) and its figures in DIR/figures.
+        #[arg(long, value_name = "DIR")]
+        report: Option<PathBuf>,
     },
 }
 
@@ -90,7 +95,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run { case, solver, out, threads, restart, force } => run::run(&run::RunOptions { case, solver, out, threads, restart, force }),
         Command::Check { case } => check::check(&case),
-        Command::Verify { cases, json, full, plots } => verify_cmd::verify(&cases, json, full, plots.as_deref()),
+        Command::Verify { cases, json, full, plots, report } => verify_cmd::verify(&cases, json, full, plots.as_deref(), report.as_deref()),
         Command::Analytic(args) => analytic_cmd::run(&args),
         Command::Sweep(args) => sweep::sweep(&args),
     };

@@ -16,7 +16,8 @@ macro_rules! say {
     }};
 }
 
-mod analytic;
+// the analytic spillage model on the case's contour (shared with `spillage verify`)
+use spillage::verify::head_model as analytic;
 mod plots;
 mod points;
 mod runner;

@@ -1,11 +1,14 @@
-//! `spillage verify`: runs each case of the ladder and prints its rows as a table or JSON.
+//! `spillage verify`: runs each case of the ladder with each solver that supports it (and the
+//! fast fluid against the reference step by step) and prints its rows as a table or JSON;
+//! `--report DIR` also writes `DIR/report.md` with the figures (issue 20).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use spillage_model::case::Case;
 
-use spillage::verify::{ladder, run_case_with_plots, CheckRow};
+use spillage::verify::report::{run_case_for_report, write, Comparison};
+use spillage::verify::{ladder, CheckRow};
 
 /// Stable JSON output of `spillage verify --json` (documented in the README).
 #[derive(serde::Serialize)]
@@ -17,7 +20,7 @@ struct Report<'a> {
     rows: &'a [CheckRow],
 }
 
-pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
+pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::path::Path>, report: Option<&std::path::Path>) -> anyhow::Result<ExitCode> {
     let inputs = if inputs.is_empty() {
         let ladder = PathBuf::from("cases/verification");
         if !ladder.is_dir() {
@@ -38,7 +41,14 @@ pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::pa
             files.push(input.clone());
         }
     }
+    // the report's figures go beside it; `--plots` still names a folder of its own
+    let figures = report.map(|dir| dir.join("figures"));
+    let plots = figures.as_deref().or(plots);
+    if let Some(dir) = report {
+        std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("cannot create the report folder {}: {e}", dir.display()))?;
+    }
     let mut rows = Vec::new();
+    let mut results = Vec::new();
     for file in &files {
         let case = Case::load(file)?;
         if case.verify.is_none() && inputs.iter().all(|i| i.as_path() != file.as_path()) {
@@ -47,7 +57,23 @@ pub fn verify(inputs: &[PathBuf], json: bool, full: bool, plots: Option<&std::pa
         if !json {
             eprintln!("verifying {} …", file.display());
         }
-        rows.extend(run_case_with_plots(&case, full, plots)?);
+        let result = run_case_for_report(&case, full, plots)?;
+        if !json {
+            let times: Vec<String> = result.passes.iter().map(|p| format!("{} {:.1} s", p.solver.map_or("check", |s| s.label()), p.seconds)).collect();
+            let compared = match &result.comparison {
+                Comparison::Compared(e) => format!(", fast vs reference {} steps {:.1e}", e.steps, e.worst),
+                _ => String::new(),
+            };
+            eprintln!("  {}{compared}", times.join(", "));
+        }
+        rows.extend(result.rows.iter().cloned());
+        results.push(result);
+    }
+    if let Some(dir) = report {
+        let path = write(dir, &mut results, full)?;
+        if !json {
+            eprintln!("report: {}", path.display());
+        }
     }
     let failed = rows.iter().filter(|r| !r.pass).count();
     if json {

@@ -12,7 +12,7 @@ fn run(file: &str) -> Vec<CheckRow> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/dem").join(file);
     let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let check = case.verify.as_ref().expect("a verification case").check.clone();
-    let rows = dem::run_check(&case, &check, false).unwrap_or_else(|e| panic!("{file}: {e:#}"));
+    let rows = dem::run_check(&case, &check, false, None).unwrap_or_else(|e| panic!("{file}: {e:#}"));
     assert!(!rows.is_empty(), "{file}: no rows");
     for row in &rows {
         assert!(row.pass, "{file}: {} = {} vs {} (error {:e} > tolerance {:e})", row.quantity, row.value, row.reference, row.error, row.tolerance);

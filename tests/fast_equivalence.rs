@@ -16,10 +16,8 @@ use spillage_model::state_diff::diff;
 use spillage_model::step::Coupled;
 use spillage_reference::fluid::ReferenceFluid;
 
-/// Agreement required after every step (issue #6).
-const TOLERANCE: f64 = 1e-8;
-/// Steps compared per case (issue #6: at least 50).
-const STEPS: usize = 50;
+/// Agreement required after every step (issue #6) and steps compared per case (at least 50).
+use spillage::verify::equivalence::{step_by_step, FLUID_STEPS as STEPS, TOLERANCE};
 
 fn case(name: &str) -> Case {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/verification/fluid").join(name);
@@ -37,23 +35,11 @@ fn compare_case(name: &str, c: Case) {
     let fast = FastFluid::new(&c, mesh, &mut s_fast).unwrap();
     let mut reference = Coupled::fluid_only(&c, s_ref, reference).unwrap();
     let mut fast = Coupled::fluid_only(&c, s_fast, fast).unwrap();
-    let mut worst: f64 = 0.0;
-    let mut worst_report = String::new();
-    for step in 1..=STEPS {
-        let r = reference.step().unwrap_or_else(|e| panic!("{name}: reference step {step}: {e}"));
-        let f = fast.step().unwrap_or_else(|e| panic!("{name}: fast step {step}: {e}"));
-        let names_r: Vec<_> = r.values.iter().map(|v| v.0).collect();
-        let names_f: Vec<_> = f.values.iter().map(|v| v.0).collect();
-        assert_eq!(names_r, names_f, "{name}: StepReport names differ");
-        let d = diff(reference.state(), fast.state());
-        let w = spillage::verify::equivalence_error(reference.state(), &d);
-        if w > worst {
-            worst = w;
-            worst_report = format!("step {step}:\n{}", d.report());
-        }
-        assert!(w <= TOLERANCE, "{name}: step {step}: fast and reference differ by {w:e} (> {TOLERANCE:e})\n{}", d.report());
-    }
-    eprintln!("{name}: {STEPS} steps, largest relative difference {worst:.3e}\n{worst_report}");
+    // the comparison `spillage verify` reports (src/verify/equivalence.rs): after every step,
+    // every field against its scale; the step reports must name the same quantities
+    let e = step_by_step(&mut reference, &mut fast, STEPS).unwrap_or_else(|e| panic!("{name}: {e:#}"));
+    assert!(e.worst <= TOLERANCE, "{name}: step {}: fast and reference differ by {:e} (> {TOLERANCE:e})\n{}", e.worst_step, e.worst, e.worst_report);
+    eprintln!("{name}: {STEPS} steps, largest relative difference {:.3e}\nstep {}:\n{}", e.worst, e.worst_step, e.worst_report);
 }
 
 /// The time-derivative flux correction (`[numerics] ddt_flux_correction`, off by default) on a

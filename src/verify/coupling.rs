@@ -3,9 +3,10 @@
 //! mapping and mesh, Stokes settling and its time-step order, hindered settling of a cloud (P3)
 //! against the Di Felice closure (Table 6.3), and the pressure a suspension carries.
 //!
-//! The runs take the fast fluid with the reference DEM: `tests/coupling_verification.rs` holds
-//! the fast fluid to the reference fluid step by step on these cases (≤ 1e-8), and the
-//! reference fluid would take ~10× longer on the finer levels. Reference answers come from the
+//! The runs take the reference DEM with either fluid solver ([`FluidSolver`]); on their own
+//! they take the fast fluid, as the reference fluid would take ~10× longer on the finer levels,
+//! and `spillage verify` runs both (`tests/coupling_verification.rs` and the verify ladder hold
+//! the fast fluid to the reference fluid step by step, ≤ 1e-8). Reference answers come from the
 //! analytic crate, which solves the same particle equation independently.
 
 use std::path::Path;
@@ -18,33 +19,38 @@ use spillage_analytic::settling::SettlingSphere;
 use spillage_fast::fluid::FastFluid;
 use spillage_model::case::{Case, MeshSection};
 use spillage_model::coupling::{Feedback, MappingMethod};
-use spillage_model::output::plot::{write_png, Plot, Series};
+use spillage_model::mesh::Mesh;
+use spillage_model::output::plot::{write_png_styled, Plot, Series, Style};
 use spillage_model::particles::settings::{BoxRegion, GroupSection};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
-use spillage_model::step::Coupled;
+use spillage_model::step::{Coupled, FluidPhase};
 use spillage_reference::dem::ReferenceDem;
+use spillage_reference::fluid::ReferenceFluid;
 
-use super::CheckRow;
+use super::{CheckRow, FluidSolver};
+
+mod interface;
 
 /// Checks implemented here.
 pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic", "coupling_interface"];
 
 /// Runs `check`; with `plots`, also draws its figure(s) there (settling velocity against time with
 /// the analytic curve; cloud velocity against α_p with the closure and Richardson–Zaki).
-pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+///
+/// `solver` is the fluid solver (the particles are the reference DEM): rows are labelled `fast`
+/// or `reference` after it.
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
+    use interface::interface_crossing;
     match check {
-        "coupling_settling" => settling(case, full, plots),
-        "coupling_stokes" => stokes(case, plots),
-        "coupling_hindered" => hindered(case, full, plots),
-        "coupling_hydrostatic" => hydrostatic(case, plots),
-        "coupling_interface" => interface_crossing(case, full),
+        "coupling_settling" => settling(case, full, plots, solver),
+        "coupling_stokes" => stokes(case, plots, solver),
+        "coupling_hindered" => hindered(case, full, plots, solver),
+        "coupling_hydrostatic" => hydrostatic(case, plots, solver),
+        "coupling_interface" => interface_crossing(case, full, solver),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
-
-/// The label of the solver pair these checks run.
-const SOLVER: &str = "fast fluid + reference particles";
 
 // ---------------------------------------------------------------------------------------------
 // parameters and runs
@@ -96,16 +102,30 @@ struct Trace {
     continuity_cumulative: Vec<f64>,
     /// Largest single-cell continuity error of the step (`continuity_cell_max`) [m³].
     continuity_cell_max: Vec<f64>,
-    solver: Coupled<FastFluid, ReferenceDem>,
+    /// The mesh and state at the end (`None` until the run ends).
+    mesh: Option<Mesh>,
+    state: State,
 }
 
-/// Runs `case` with the fast fluid and the reference DEM to its end time.
-fn run(case: &Case) -> Result<Trace> {
+/// Runs `case` with the `solver` fluid and the reference DEM to its end time.
+fn run(case: &Case, solver: FluidSolver) -> Result<Trace> {
     let mesh = super::fluid::build_mesh(case)?;
     let mut state = State::default();
-    let fluid = FastFluid::new(case, mesh, &mut state)?;
-    let dem = ReferenceDem::new(case, &mut state)?;
-    let solver = Coupled::new(case, state, Some(fluid), Some(dem))?;
+    match solver {
+        FluidSolver::Fast => {
+            let fluid = FastFluid::new(case, mesh, &mut state)?;
+            let dem = ReferenceDem::new(case, &mut state)?;
+            run_with(case, Coupled::new(case, state, Some(fluid), Some(dem))?)
+        }
+        FluidSolver::Reference => {
+            let fluid = ReferenceFluid::new(case, mesh, &mut state)?;
+            let dem = ReferenceDem::new(case, &mut state)?;
+            run_with(case, Coupled::new(case, state, Some(fluid), Some(dem))?)
+        }
+    }
+}
+
+fn run_with<F: FluidPhase>(case: &Case, mut solver: Coupled<F, ReferenceDem>) -> Result<Trace> {
     let dt = case.time.dt.ok_or_else(|| anyhow!("coupling checks need a fixed [time] dt"))?;
     let end = case.time.end_time.ok_or_else(|| anyhow!("coupling checks need [time] end_time"))?;
     let steps = (end / dt - 1e-9).ceil() as u64;
@@ -115,17 +135,20 @@ fn run(case: &Case) -> Result<Trace> {
         continuity_global: Vec::new(),
         continuity_cumulative: Vec::new(),
         continuity_cell_max: Vec::new(),
-        solver,
+        mesh: None,
+        state: State::default(),
     };
     for _ in 0..steps {
-        let report = trace.solver.step().with_context(|| format!("case {}", case.case.name))?;
+        let report = solver.step().with_context(|| format!("case {}", case.case.name))?;
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
-        trace.time.push(trace.solver.state().time);
+        trace.time.push(solver.state().time);
         trace.settling.push(value("settling_velocity").unwrap_or(f64::NAN));
         trace.continuity_global.push(value("continuity_global").unwrap_or(f64::NAN));
         trace.continuity_cumulative.push(value("continuity_cumulative").unwrap_or(f64::NAN));
         trace.continuity_cell_max.push(value("continuity_cell_max").unwrap_or(f64::NAN));
     }
+    trace.mesh = Some(solver.mesh().ok_or_else(|| anyhow!("no mesh"))?.clone());
+    trace.state = solver.state().clone();
     Ok(trace)
 }
 
@@ -173,10 +196,10 @@ fn sphere(case: &Case, added_mass: f64) -> Result<SettlingSphere> {
 
 /// Terminal velocity (at the end time) and the largest transient deviation, both relative to
 /// the analytic terminal velocity, and the settling velocity against time.
-fn settling_errors(case: &Case) -> Result<(f64, f64, Curve)> {
+fn settling_errors(case: &Case, solver: FluidSolver) -> Result<(f64, f64, Curve)> {
     let sphere = sphere(case, 0.5)?;
     let terminal = sphere.terminal_velocity(AnalyticDrag::BrownLawler)?.velocity;
-    let trace = run(case)?;
+    let trace = run(case, solver)?;
     let exact = sphere.transient(AnalyticDrag::BrownLawler, &trace.time)?;
     let transient = trace.settling.iter().zip(&exact).map(|(u, e)| (u - e.velocity).abs()).fold(0.0, f64::max) / terminal;
     let last = *trace.settling.last().ok_or_else(|| anyhow!("no steps"))?;
@@ -191,11 +214,11 @@ fn curve(trace: &Trace) -> Curve {
     trace.time.iter().copied().zip(trace.settling.iter().copied()).collect()
 }
 
-/// Writes a plot into `dir` (if plotting) as `name.png`.
-fn draw(dir: Option<&Path>, name: &str, plot: &Plot) -> Result<()> {
+/// Writes a plot into `dir` (if plotting) as `name.png`, with a style per series.
+fn draw(dir: Option<&Path>, name: &str, plot: &Plot, styles: &[Style]) -> Result<()> {
     if let Some(dir) = dir {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        write_png(plot, &dir.join(format!("{name}.png")))?;
+        write_png_styled(plot, styles, &dir.join(format!("{name}.png")))?;
     }
     Ok(())
 }
@@ -203,11 +226,13 @@ fn draw(dir: Option<&Path>, name: &str, plot: &Plot) -> Result<()> {
 /// A settling-velocity-against-time figure: the runs and the analytic curve.
 fn draw_settling(dir: Option<&Path>, name: &str, title: &str, runs: &[(String, Vec<(f64, f64)>)], exact: &[(f64, f64)]) -> Result<()> {
     let mut series: Vec<Series> = runs.iter().map(|(label, points)| Series { label, points }).collect();
-    series.push(Series { label: "analytic", points: exact });
-    draw(dir, name, &Plot { title, x_label: "time [s]", y_label: "settling velocity [m/s]", log_x: false, log_y: false, series })
+    series.push(Series { label: "analytic (particle equation, Brown–Lawler drag)", points: exact });
+    let mut styles = vec![Style::Line; runs.len()];
+    styles.push(Style::Exact);
+    draw(dir, name, &Plot { title, x_label: "time [s]", y_label: "settling velocity [m/s]", log_x: false, log_y: false, series }, &styles)
 }
 
-fn settling(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+fn settling(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let widths = numbers(base, if full { "full_widths" } else { "widths" })?;
     let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
@@ -224,10 +249,10 @@ fn settling(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
             let mut case = base.clone();
             set_box(&mut case, max, [nx, ny, cells[2]])?;
             set_mapping(&mut case, method(m)?, gamma)?;
-            let (terminal, transient, points) = settling_errors(&case)?;
+            let (terminal, transient, points) = settling_errors(&case, solver)?;
             // spec acceptance (issue 13): 1 % of u_t at the end, 2 % of u_t over the transient
-            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: terminal velocity relative error"), SOLVER, terminal, 0.01));
-            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: max |u − u_ode| / u_t"), SOLVER, transient, 0.02));
+            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: terminal velocity relative error"), solver.label(), terminal, 0.01));
+            rows.push(CheckRow::at_most(name, format!("{m} γ={gamma} d/dx={ratio:.2}: max |u − u_ode| / u_t"), solver.label(), transient, 0.02));
             runs.push((format!("{m} γ = {gamma}"), points));
         }
         if plots.is_some() {
@@ -244,12 +269,12 @@ fn settling(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
     let mut case = base.clone();
     set_box(&mut case, max, [nx, ny, cells[2]])?;
     set_mapping(&mut case, MappingMethod::Centroid, 1.0)?;
-    let (terminal, _, _) = settling_errors(&case)?;
+    let (terminal, _, _) = settling_errors(&case, solver)?;
     let ratio = d / (max[0] / nx as f64);
     rows.push(CheckRow::at_least(
         name,
         format!("centroid d/dx={ratio:.2}: |terminal velocity error| (must fail)"),
-        SOLVER,
+        solver.label(),
         terminal.abs(),
         number(base, "centroid_failure_above")?,
     ));
@@ -261,14 +286,14 @@ fn settling(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
 
 /// Largest |u − u_exact| over the run with step `dt` (the DEM sub-step follows it), and the
 /// settling velocity against time.
-fn stokes_error(base: &Case, dt: f64) -> Result<(f64, Vec<(f64, f64)>)> {
+fn stokes_error(base: &Case, dt: f64, solver: FluidSolver) -> Result<(f64, Vec<(f64, f64)>)> {
     let mut case = base.clone();
     case.time.dt = Some(dt);
     if let Some(p) = case.particles.as_mut() {
         p.substep = Some(dt);
     }
     let sphere = sphere(&case, 0.5)?;
-    let trace = run(&case)?;
+    let trace = run(&case, solver)?;
     let mut worst: f64 = 0.0;
     for (t, u) in trace.time.iter().zip(&trace.settling) {
         worst = worst.max((u - sphere.stokes_transient(*t)?.velocity).abs());
@@ -276,7 +301,7 @@ fn stokes_error(base: &Case, dt: f64) -> Result<(f64, Vec<(f64, f64)>)> {
     Ok((worst, curve(&trace)))
 }
 
-fn stokes(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+fn stokes(case: &Case, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = case.case.name.as_str();
     let steps = numbers(case, "time_steps")?;
     let bound = number(case, "source_largest_error")?;
@@ -285,10 +310,10 @@ fn stokes(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let mut errors = Vec::new();
     let mut runs = Vec::new();
     for &dt in &steps {
-        let (e, points) = stokes_error(case, dt)?;
+        let (e, points) = stokes_error(case, dt, solver)?;
         errors.push(e);
         runs.push((format!("Δt = {dt} s"), points));
-        rows.push(CheckRow::at_most(name, format!("largest |u − u_exact| [m/s], Δt = {dt}"), SOLVER, e, bound));
+        rows.push(CheckRow::at_most(name, format!("largest |u − u_exact| [m/s], Δt = {dt}"), solver.label(), e, bound));
     }
     // a terminal velocity that is right to 0.1 % (the run ends at 9.4 τ, e^−9.4 = 8e-5 below it)
     let trace_end = sphere.stokes_transient(case.time.end_time.unwrap_or(0.0))?.velocity;
@@ -301,7 +326,7 @@ fn stokes(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     // first-order implicit drag update: the observed order of the largest error ≥ 0.9 per halving
     for k in 1..errors.len() {
         let order = (errors[k - 1] / errors[k]).log2();
-        rows.push(CheckRow::at_least(name, format!("observed order Δt {} → {}", steps[k - 1], steps[k]), SOLVER, order, 0.9));
+        rows.push(CheckRow::at_least(name, format!("observed order Δt {} → {}", steps[k - 1], steps[k]), solver.label(), order, 0.9));
     }
     Ok(rows)
 }
@@ -342,7 +367,7 @@ fn window_mean(trace: &Trace, window: [f64; 2]) -> f64 {
 /// Table 6.3 of the thesis: hindered terminal velocities at α_p.
 const TABLE_6_3: [(f64, f64); 5] = [(0.027, 0.692), (0.05, 0.656), (0.1, 0.580), (0.208, 0.434), (0.308, 0.319)];
 
-fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+fn hindered(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let fractions = numbers(base, if full { "full_fractions" } else { "fractions" })?;
     let mappings = strings(base, if full { "full_mappings" } else { "mappings" })?;
@@ -369,7 +394,7 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
             let (m, gamma) = parse_mapping(mapping)?;
             let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
             set_mapping(&mut case, method(m)?, gamma)?;
-            let trace = run(&case)?;
+            let trace = run(&case, solver)?;
             let measured = window_mean(&trace, [window[0], window[1]]);
             let closure = cloud_settling_velocity(&sphere, alpha_p, CloudReconstruction::SlipVelocity)?.particle_velocity;
             // issue 13: 3 % of Table 6.3 for the kernel, 5 % for the diffusion method; the
@@ -383,7 +408,7 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
             rows.push(CheckRow::relative(
                 name,
                 format!("{m} γ={gamma} α_p={alpha_p:.3}: median settling velocity vs Table 6.3"),
-                SOLVER,
+                solver.label(),
                 measured,
                 reference,
                 tolerance,
@@ -399,15 +424,20 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
             grid.iter().map(|&a| Ok((a, cloud_settling_velocity(&sphere, a, CloudReconstruction::SlipVelocity)?.particle_velocity))).collect::<Result<_>>()?;
         let rz: Vec<(f64, f64)> = grid.iter().map(|&a| Ok((a, richardson_zaki_velocity(single.velocity, a, n, 0.0)?))).collect::<Result<_>>()?;
         let table: Vec<(f64, f64)> = TABLE_6_3.to_vec();
-        let mut series: Vec<Series> = measured_points.iter().filter(|(_, p)| !p.is_empty()).map(|(label, points)| Series { label, points }).collect();
+        let labels: Vec<String> = measured_points.iter().map(|(label, _)| format!("computed: {label}")).collect();
+        let mut series: Vec<Series> =
+            measured_points.iter().zip(&labels).filter(|((_, p), _)| !p.is_empty()).map(|((_, points), label)| Series { label, points }).collect();
+        let mut styles = vec![Style::Computed; series.len()];
         series.push(Series { label: "Di Felice closure (A)", points: &closure });
         series.push(Series { label: "Richardson–Zaki (Rowe n)", points: &rz });
         series.push(Series { label: "thesis Table 6.3", points: &table });
+        styles.extend([Style::Exact, Style::Line, Style::Line]);
         let title = format!("{name}: cloud settling velocity against particle fraction");
         draw(
             plots,
             name,
             &Plot { title: &title, x_label: "particle fraction α_p [−]", y_label: "median settling velocity [m/s]", log_x: false, log_y: false, series },
+            &styles,
         )?;
     }
     Ok(rows)
@@ -415,9 +445,9 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRo
 
 /// Pressure gradient along gravity over the rows of cells whose centres lie in `band` (in y),
 /// from the mean kinematic pressure of the first and last row [Pa/m].
-fn pressure_gradient(solver: &Coupled<FastFluid, ReferenceDem>, band: [f64; 2], density: f64) -> Result<f64> {
-    let mesh = solver.mesh().ok_or_else(|| anyhow!("no mesh"))?;
-    let fluid = solver.state().fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
+fn pressure_gradient(trace: &Trace, band: [f64; 2], density: f64) -> Result<f64> {
+    let mesh = trace.mesh.as_ref().ok_or_else(|| anyhow!("no mesh"))?;
+    let fluid = trace.state.fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
     let (mut lo, mut hi) = ((0.0, 0usize, f64::INFINITY), (0.0, 0usize, f64::NEG_INFINITY));
     let ys: Vec<f64> = mesh.cell_centres.iter().map(|c| c.y).filter(|y| *y >= band[0] && *y <= band[1]).collect();
     let (y_lo, y_hi) = (ys.iter().copied().fold(f64::INFINITY, f64::min), ys.iter().copied().fold(f64::NEG_INFINITY, f64::max));
@@ -436,9 +466,9 @@ fn pressure_gradient(solver: &Coupled<FastFluid, ReferenceDem>, band: [f64; 2], 
 }
 
 /// Row-mean pressure p − p(y₀) [Pa] against height, bottom row first.
-fn pressure_profile(solver: &Coupled<FastFluid, ReferenceDem>, density: f64) -> Result<Vec<(f64, f64)>> {
-    let mesh = solver.mesh().ok_or_else(|| anyhow!("no mesh"))?;
-    let fluid = solver.state().fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
+fn pressure_profile(trace: &Trace, density: f64) -> Result<Vec<(f64, f64)>> {
+    let mesh = trace.mesh.as_ref().ok_or_else(|| anyhow!("no mesh"))?;
+    let fluid = trace.state.fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
     let mut rows: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
     for (c, x) in mesh.cell_centres.iter().enumerate() {
         // rows of the box mesh share their centre height to round-off; key them by micrometre
@@ -450,7 +480,7 @@ fn pressure_profile(solver: &Coupled<FastFluid, ReferenceDem>, density: f64) -> 
     Ok(profile.into_iter().map(|(y, p)| (y, p - p0)).collect())
 }
 
-fn hydrostatic(base: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
+fn hydrostatic(base: &Case, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let (cell, width) = (number(base, "cell")?, number(base, "width")?);
     let cloud = numbers(base, "cloud")?;
@@ -465,22 +495,22 @@ fn hydrostatic(base: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     for feedback in [Feedback::DragAndFluidAcceleration, Feedback::Literal] {
         let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
         case.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.feedback = feedback;
-        let trace = run(&case)?;
+        let trace = run(&case, solver)?;
         // the pressure less the water's hydrostatic part: the weight the fluid carries
         let water = fluid.density * g;
-        let profile = pressure_profile(&trace.solver, fluid.density)?;
+        let profile = pressure_profile(&trace, fluid.density)?;
         profiles.push(profile.iter().map(|(y, p)| (*y, -p - water * (y - profile[0].0))).collect::<Vec<_>>());
-        let measured = -pressure_gradient(&trace.solver, [band[0], band[1]], fluid.density)?;
+        let measured = -pressure_gradient(&trace, [band[0], band[1]], fluid.density)?;
         let mixture = (alpha_p * sphere.particle_density + (1.0 - alpha_p) * fluid.density) * g;
         let label = match feedback {
             Feedback::DragAndFluidAcceleration => "−dp/dy / (ρ_m g), drag + fluid acceleration fed back",
             Feedback::Literal => "−dp/dy / (ρ_m g), literal T3.2 feedback (must fail)",
         };
-        let row = CheckRow::relative(name, label, SOLVER, measured / mixture, 1.0, tolerance);
+        let row = CheckRow::relative(name, label, solver.label(), measured / mixture, 1.0, tolerance);
         rows.push(match feedback {
             Feedback::DragAndFluidAcceleration => row,
             // the literal feedback leaves the submerged weight out: it must miss ρ_m g
-            Feedback::Literal => CheckRow::at_least(name, label, SOLVER, row.error, tolerance),
+            Feedback::Literal => CheckRow::at_least(name, label, solver.label(), row.error, tolerance),
         });
     }
     if plots.is_some() {
@@ -495,96 +525,13 @@ fn hydrostatic(base: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
             Series { label: "α_p (ρ_p − ρ_c) g slope (the suspension's weight)", points: &slope },
         ];
         let title = format!("{name}: pressure in excess of the water's hydrostatic part");
-        draw(plots, name, &Plot { title: &title, x_label: "height y [m]", y_label: "−(p − p₀) − ρ_c g (y − y₀) [Pa]", log_x: false, log_y: false, series })?;
+        let styles = [Style::Line, Style::Line, Style::Exact];
+        draw(
+            plots,
+            name,
+            &Plot { title: &title, x_label: "height y [m]", y_label: "−(p − p₀) − ρ_c g (y − y₀) [Pa]", log_x: false, log_y: false, series },
+            &styles,
+        )?;
     }
     Ok(rows)
-}
-
-// ---------------------------------------------------------------------------------------------
-// P2: settling through a stationary sliding interface
-
-/// The same annulus without the interface: one block with the rotor's and stator's rings and
-/// the mean of their cells around.
-fn without_interface(case: &Case) -> Result<Case> {
-    let mut plain = case.clone();
-    let Some(MeshSection::RotorStator { r_inner, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, two_d, .. }) =
-        case.mesh.clone()
-    else {
-        bail!("{}: the interface check needs a rotor_stator mesh", case.path.display());
-    };
-    plain.mesh = Some(MeshSection::Annulus {
-        r_inner,
-        r_outer,
-        z_min,
-        z_max,
-        n_r: n_r_rotor + n_r_stator,
-        n_theta: (n_theta_rotor + n_theta_stator) / 2,
-        n_z,
-        radial_grading: 1.0,
-        two_d,
-    });
-    Ok(plain)
-}
-
-fn interface_crossing(base: &Case, full: bool) -> Result<Vec<CheckRow>> {
-    let name = base.case.name.as_str();
-    let case = if full { refined(base, number(base, "full_refinement")? as usize)? } else { base.clone() };
-    let volume = sphere(&case, 0.5)?.volume();
-    let plain = run(&without_interface(&case)?)?;
-    let mut rows = Vec::new();
-    let mut largest = [0.0f64; 2];
-    for (k, mask) in [false, true].into_iter().enumerate() {
-        let mut c = case.clone();
-        c.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.interface_mask = mask;
-        let trace = run(&c)?;
-        // the interface's effect: the velocity difference to the run without it, relative to
-        // that run's final (near-terminal) velocity, as Table 6.4's relative error
-        let terminal = plain.settling.last().copied().unwrap_or(f64::NAN).abs();
-        largest[k] = trace.settling.iter().zip(&plain.settling).map(|(u, v)| (u - v).abs()).fold(0.0, f64::max) / terminal;
-        if mask {
-            let global = trace.continuity_global.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
-            let cumulative = trace.continuity_cumulative.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
-            let local = trace.continuity_cell_max.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
-            rows.push(CheckRow::at_most(
-                name,
-                "masked: relative velocity difference to no interface",
-                SOLVER,
-                largest[k],
-                number(base, "velocity_difference")?,
-            ));
-            rows.push(CheckRow::at_most(name, "masked: largest |global continuity error| / V_p", SOLVER, global, number(base, "continuity_global")?));
-            rows.push(CheckRow::at_most(
-                name,
-                "masked: largest |cumulative continuity error| / V_p",
-                SOLVER,
-                cumulative,
-                number(base, "continuity_cumulative")?,
-            ));
-            rows.push(CheckRow::at_most(name, "masked: largest single-cell continuity error / V_p", SOLVER, local, number(base, "continuity_local")?));
-        }
-    }
-    // the mask's purpose (§6.7): the crossing disturbs the particle less than without it
-    rows.push(CheckRow::at_least(
-        name,
-        "unmasked / masked velocity difference (the mask helps)",
-        SOLVER,
-        largest[0] / largest[1].max(1e-300),
-        number(base, "mask_gain")?,
-    ));
-    Ok(rows)
-}
-
-/// `case` with its rotor/stator mesh refined `factor` times in r and θ.
-fn refined(case: &Case, factor: usize) -> Result<Case> {
-    let mut fine = case.clone();
-    match fine.mesh.as_mut() {
-        Some(MeshSection::RotorStator { n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, .. }) => {
-            *n_r_rotor *= factor;
-            *n_r_stator *= factor;
-            *n_theta_rotor *= factor;
-            *n_theta_stator *= factor;
-            Ok(fine)
-        }
-        _ => bail!("{}: the interface check needs a rotor_stator mesh", case.path.display()),
-    }
 }

@@ -17,16 +17,20 @@ use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::step::Coupled;
 
+use super::figures::{draw, Axes, Curve};
 use super::CheckRow;
+use std::path::Path;
 
 /// Checks implemented here.
 pub const CHECKS: &[&str] = &["cutter_head_flow"];
 
 const SOLVER: &str = "fast";
 
-pub fn run_check(case: &Case, check: &str, full: bool) -> Result<Vec<CheckRow>> {
+/// Runs `check`; with `plots`, draws the out-flowing flux against rpm with the analytic
+/// spillage model's Q₁ on the same contour.
+pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
-        "cutter_head_flow" => flow(case, full),
+        "cutter_head_flow" => flow(case, full, plots),
         other => bail!("unknown cutter-head check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -69,7 +73,7 @@ fn with(case: &Case, edit: impl FnOnce(&mut Case)) -> Result<Case> {
     Ok(c)
 }
 
-fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
+fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = &case.case.name;
     let head = case.cutter_head.as_ref().ok_or_else(|| anyhow!("{}: the check needs a [cutter_head]", case.path.display()))?;
     let q_m = head.suction_discharge;
@@ -80,7 +84,10 @@ fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
         // the face-flux hull is exact up to the solver's continuity tolerance; 5 % is the issue's
         CheckRow::relative(name, "net inflow through the contour hull / Q_m", SOLVER, -net / q_m, 1.0, 0.05),
     ];
+    let rpm_case = case.rotor.as_ref().map_or(f64::NAN, |r| r.angular_velocity().abs() * 60.0 / std::f64::consts::TAU);
+    let mut computed = vec![(rpm_case, outflow)];
     if full {
+        computed.clear();
         let mut previous = f64::NEG_INFINITY;
         let mut decreases = 0.0;
         for rpm in [30.0, 45.0, 60.0, 75.0, 90.0] {
@@ -90,6 +97,7 @@ fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
                 (rotor.rpm, rotor.omega) = (Some(rpm), None);
             })?;
             let (q, _) = mean_fluxes(&c)?;
+            computed.push((rpm, q));
             eprintln!("{name}: {rpm} rpm: out-flowing flux {q:.5} m³/s");
             rows.push(CheckRow::at_least(name, format!("out-flowing flux at {rpm} rpm [m³/s] (> 0)"), SOLVER, q, 0.0));
             if q < previous {
@@ -114,6 +122,29 @@ fn flow(case: &Case, full: bool) -> Result<Vec<CheckRow>> {
             change,
             0.05,
         ));
+    }
+    if plots.is_some() {
+        let model =
+            super::head_model::HeadModel::of_case(case).ok_or_else(|| anyhow!("{}: the figure needs [cutter_head] and [rotor]", case.path.display()))??;
+        let curve: Vec<(f64, f64)> =
+            (0..=40).map(|k| 20.0 + 2.0 * k as f64).map(|rpm| Ok((rpm, model.answer(rpm, q_m)?.outflow_water))).collect::<Result<_>>()?;
+        let half: Vec<(f64, f64)> = vec![(20.0, 0.5 * q_m), (100.0, 0.5 * q_m)];
+        draw(
+            plots,
+            name,
+            &Axes {
+                title: &format!("{name}: out-flowing flux against rotor speed, Q_m = {q_m} m³/s"),
+                x: "rotor speed [rpm]",
+                y: "out-flowing flux Q₁ [m³/s]",
+                log_x: false,
+                log_y: false,
+            },
+            &[
+                Curve::computed("computed (fast fluid, mean over the last revolution)", computed),
+                Curve::exact("analytic spillage model Q₁ (water, same contour)", curve),
+                Curve::guide("thesis CFD at 60 rpm: ≈ Q_m / 2", half),
+            ],
+        )?;
     }
     Ok(rows)
 }

@@ -4,14 +4,21 @@
 //! procedure that compares the run with the exact answer lives in the module of its model
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
+pub mod about;
 pub mod coupling;
 pub mod cutter_head;
 pub mod dem;
+pub mod equivalence;
+pub mod figures;
 pub mod fluid;
+pub mod head_model;
+pub mod report;
 pub mod rotating_frame;
 pub mod turbulence;
 pub mod turbulence_step;
 pub mod wear;
+
+pub use equivalence::equivalence_error;
 
 use std::path::{Path, PathBuf};
 
@@ -25,7 +32,7 @@ pub struct CheckRow {
     pub case: String,
     /// What was measured, e.g. `u_theta rms error 64x16` or `observed order u_theta`.
     pub quantity: String,
-    /// `reference`, `fast` or `analytic`.
+    /// `reference`, `fast`, `analytic`, or `fast vs reference` (the step-by-step comparison).
     pub solver: String,
     pub value: f64,
     /// The exact or published value it is compared with.
@@ -72,6 +79,45 @@ impl CheckRow {
     }
 }
 
+/// The fluid solver a check runs with (the particles are always the reference DEM).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FluidSolver {
+    Reference,
+    Fast,
+}
+
+impl FluidSolver {
+    /// The `solver` of the rows it produces.
+    pub fn label(self) -> &'static str {
+        match self {
+            FluidSolver::Reference => "reference",
+            FluidSolver::Fast => "fast",
+        }
+    }
+}
+
+/// How a check runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Options<'a> {
+    /// Add the fine levels (slow).
+    pub full: bool,
+    /// Draw the check's figures into this folder (checks that have figures).
+    pub plots: Option<&'a Path>,
+    /// The fluid solver, for the checks in [`fast_fluid_checks`]; `None` is the check's own
+    /// choice (the reference fluid, except the coupling, cutter-head and wear checks, which take
+    /// the fast one for speed).
+    pub fluid: Option<FluidSolver>,
+}
+
+/// Checks that run with either fluid solver ([`Options::fluid`]): `spillage verify` runs them
+/// with both.
+pub fn fast_fluid_checks() -> Vec<&'static str> {
+    let mut checks = Vec::new();
+    checks.extend_from_slice(fluid::CHECKS);
+    checks.extend_from_slice(coupling::CHECKS);
+    checks
+}
+
 /// Runs the check named in `case.verify`. `full` adds the fine levels.
 pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
     run_case_with_plots(case, full, None)
@@ -79,11 +125,16 @@ pub fn run_case(case: &Case, full: bool) -> anyhow::Result<Vec<CheckRow>> {
 
 /// [`run_case`], drawing the check's figures into `plots` (checks that have figures).
 pub fn run_case_with_plots(case: &Case, full: bool, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
+    run_case_with(case, &Options { full, plots, fluid: None })
+}
+
+/// [`run_case`] with all its [`Options`].
+pub fn run_case_with(case: &Case, options: &Options) -> anyhow::Result<Vec<CheckRow>> {
     let Some(verify) = &case.verify else {
         anyhow::bail!("{}: not a verification case (it has no [verify] section)", case.path.display());
     };
     let check = verify.check.as_str();
-    let rows = dispatch(case, check, full, plots)?;
+    let rows = dispatch(case, check, options)?;
     if rows.is_empty() {
         anyhow::bail!("{}: check `{check}` produced no rows", case.path.display());
     }
@@ -91,18 +142,19 @@ pub fn run_case_with_plots(case: &Case, full: bool, plots: Option<&Path>) -> any
 }
 
 /// Each model's verification module lists its checks in `CHECKS` and runs them in `run_check`.
-fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyhow::Result<Vec<CheckRow>> {
+fn dispatch(case: &Case, check: &str, options: &Options) -> anyhow::Result<Vec<CheckRow>> {
+    let (full, plots) = (options.full, options.plots);
     if dem::CHECKS.contains(&check) {
-        return dem::run_check(case, check, full);
+        return dem::run_check(case, check, full, plots);
     }
     if fluid::CHECKS.contains(&check) {
-        return fluid::run_check(case, check, full);
+        return fluid::run_check(case, check, full, plots, options.fluid.unwrap_or(FluidSolver::Reference));
     }
     if coupling::CHECKS.contains(&check) {
-        return coupling::run_check(case, check, full, plots);
+        return coupling::run_check(case, check, full, plots, options.fluid.unwrap_or(FluidSolver::Fast));
     }
     if cutter_head::CHECKS.contains(&check) {
-        return cutter_head::run_check(case, check, full);
+        return cutter_head::run_check(case, check, full, plots);
     }
     if wear::CHECKS.contains(&check) {
         return wear::run_check(case, check, full, plots);
@@ -149,28 +201,3 @@ pub fn ladder(root: &Path) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 pub mod dem_rig;
-
-/// Largest difference over all fields, each relative to a physical scale of its field: the
-/// field's own maximum, except where a field can be identically zero in exact arithmetic
-/// (pressure in a free stream or a body-force-driven periodic channel, the cumulative
-/// continuity error, which is round-off): pressures are measured against max|u|² (kinematic
-/// dynamic pressure) and the continuity volume against Δt·max|φ|.
-pub fn equivalence_error(reference: &spillage_model::state::State, d: &spillage_model::state_diff::StateDiff) -> f64 {
-    assert!(d.mismatches.is_empty(), "structure differs: {:?}", d.mismatches);
-    let f = reference.fluid.as_ref().expect("fluid state");
-    let u_max = f.velocity.iter().flat_map(|v| v.iter()).fold(0.0f64, |m, x| m.max(x.abs()));
-    let flux_max = f.flux.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut worst: f64 = 0.0;
-    for (name, fd) in &d.fields {
-        let scaled = if name.contains("pressure") {
-            let own = fd.max_abs / fd.max_rel_to_scale.max(1e-300);
-            fd.max_abs / own.max(u_max * u_max).max(1e-300)
-        } else if name.contains("cumulative_continuity_error") {
-            fd.max_abs / (reference.dt * flux_max).max(1e-300)
-        } else {
-            fd.max_rel_to_scale
-        };
-        worst = worst.max(if fd.max_abs == 0.0 { 0.0 } else { scaled });
-    }
-    worst
-}

@@ -351,16 +351,7 @@ fn equivalence(case: &Case) -> Result<Vec<CheckRow>> {
     let tolerance = number(case, "tolerance")?;
     let mut reference = fluid_run(case, reference_fluid)?;
     let mut fast = fluid_run(case, fast_fluid)?;
-    let mut worst = 0.0f64;
-    for step in 1..=steps {
-        reference.step().with_context(|| format!("case {name}: reference step {step}"))?;
-        fast.step().with_context(|| format!("case {name}: fast step {step}"))?;
-        let diff = spillage_model::state_diff::diff(reference.state(), fast.state());
-        if !diff.mismatches.is_empty() {
-            bail!("case {name} step {step}: the states differ in structure: {:?}", diff.mismatches);
-        }
-        worst = worst.max(super::equivalence_error(reference.state(), &diff));
-    }
+    let worst = super::equivalence::step_by_step(&mut reference, &mut fast, steps).with_context(|| format!("case {name}"))?.worst;
     let mut rows = vec![CheckRow::at_most(name, format!("max relative difference over {steps} steps"), "fast", worst, tolerance)];
 
     // The Coriolis force of the flow, −2Ω×u, must be carried by the pressure across the duct:

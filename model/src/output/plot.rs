@@ -7,6 +7,7 @@ use super::atomic_file::{replace_with, temporary_sibling};
 use super::OutputError;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -25,6 +26,21 @@ pub struct Plot<'a> {
     pub log_x: bool,
     pub log_y: bool,
     pub series: Vec<Series<'a>>,
+}
+
+/// How a series is drawn, so that computed values and the exact or published curves they are
+/// compared with stay distinguishable (issue 20: a reviewer must tell them apart at a glance).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// A coloured solid line (markers at up to 60 points): the default.
+    #[default]
+    Line,
+    /// Computed values: coloured markers at every point joined by a thin line.
+    Computed,
+    /// An exact or published curve: a black dashed line drawn over the computed ones.
+    Exact,
+    /// A guide (e.g. a slope-2 line on a convergence plot): a grey dotted line drawn first.
+    Guide,
 }
 
 /// Image size in pixels: wide enough for a legend beside four-digit tick labels.
@@ -56,6 +72,12 @@ const MARKER_LIMIT: usize = 60;
 /// Refuses, naming series and point: NaN/infinite coordinates, non-positive values on a log axis,
 /// and a plot without any point.
 pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
+    write_png_styled(plot, &[], path)
+}
+
+/// [`write_png`] with a [`Style`] per series (`styles[i]` for `plot.series[i]`; series beyond the
+/// slice are [`Style::Line`]).
+pub fn write_png_styled(plot: &Plot, styles: &[Style], path: &Path) -> Result<(), OutputError> {
     let x_range = axis_range(path, plot, Axis::X)?;
     let y_range = axis_range(path, plot, Axis::Y)?;
     register_embedded_font().map_err(|e| OutputError::invalid(path, e))?;
@@ -64,15 +86,16 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
     // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
     let resolution = |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
     let resolutions = (resolution(plot.log_x, x_range), resolution(plot.log_y, y_range));
+    let legend = legend_corner(plot, x_range, y_range);
     let drawn = {
         let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
         let (x0, x1) = x_range;
         let (y0, y1) = y_range;
         let result = match (plot.log_x, plot.log_y) {
-            (false, false) => draw(&root, plot, resolutions, x0..x1, y0..y1),
-            (true, false) => draw(&root, plot, resolutions, (x0..x1).log_scale(), y0..y1),
-            (false, true) => draw(&root, plot, resolutions, x0..x1, (y0..y1).log_scale()),
-            (true, true) => draw(&root, plot, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
+            (false, false) => draw(&root, plot, styles, legend, resolutions, x0..x1, y0..y1),
+            (true, false) => draw(&root, plot, styles, legend, resolutions, (x0..x1).log_scale(), y0..y1),
+            (false, true) => draw(&root, plot, styles, legend, resolutions, x0..x1, (y0..y1).log_scale()),
+            (true, true) => draw(&root, plot, styles, legend, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
         };
         result.and_then(|()| root.present().map_err(|e| e.to_string()))
     };
@@ -83,6 +106,115 @@ pub fn write_png(plot: &Plot, path: &Path) -> Result<(), OutputError> {
             Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing the plot failed: {message}")) })
         }
     }
+}
+
+/// One bar of a [`write_bar_chart_png`]: its label and its value.
+pub struct Bar<'a> {
+    pub label: &'a str,
+    pub value: f64,
+}
+
+/// A horizontal bar chart on a logarithmic value axis: one labelled bar per entry, from `floor`
+/// to its value (values below `floor`, such as exact zeros, are drawn at `floor`, as a stub),
+/// and a dashed vertical `bound` line (a limit the bars must stay under). For comparisons of
+/// magnitudes that span decades, such as solver differences against their bound.
+pub fn write_bar_chart_png(title: &str, value_label: &str, bars: &[Bar], floor: f64, bound: Option<(&str, f64)>, path: &Path) -> Result<(), OutputError> {
+    if bars.is_empty() {
+        return Err(OutputError::invalid(path, format!("bar chart `{title}` has no bars")));
+    }
+    if !(floor > 0.0 && floor.is_finite()) {
+        return Err(OutputError::invalid(path, format!("bar chart `{title}`: the floor {floor} must be positive")));
+    }
+    for (index, bar) in bars.iter().enumerate() {
+        if bar.value.is_nan() || bar.value.is_infinite() {
+            return Err(OutputError::NonFinite { path: path.to_path_buf(), field: format!("bar `{}`", bar.label), index, value: bar.value });
+        }
+    }
+    register_embedded_font().map_err(|e| OutputError::invalid(path, e))?;
+    let high = bars.iter().map(|b| b.value).chain(bound.map(|b| b.1)).fold(floor, f64::max) * 10.0;
+    let temporary = temporary_sibling(path);
+    let drawn = {
+        let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
+        let result = draw_bars(&root, title, value_label, bars, floor, high, bound);
+        result.and_then(|()| root.present().map_err(|e| e.to_string()))
+    };
+    match drawn {
+        Ok(()) => replace_with(&temporary, path),
+        Err(message) => {
+            let _ = std::fs::remove_file(&temporary);
+            Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing the bar chart failed: {message}")) })
+        }
+    }
+}
+
+fn draw_bars(
+    root: &DrawingArea<BitMapBackend, Shift>,
+    title: &str,
+    value_label: &str,
+    bars: &[Bar],
+    floor: f64,
+    high: f64,
+    bound: Option<(&str, f64)>,
+) -> Result<(), String> {
+    use plotters::coord::ranged1d::SegmentValue;
+    let error = |e: &dyn std::fmt::Display| e.to_string();
+    root.fill(&WHITE).map_err(|e| error(&e))?;
+    let n = bars.len();
+    // the longest label decides the label area (≈ 9 px per character at 17 px)
+    let label_width = bars.iter().map(|b| b.label.chars().count()).max().unwrap_or(0) as u32 * 9 + 20;
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 30))
+        .margin(20)
+        .x_label_area_size(60)
+        .y_label_area_size(label_width.clamp(80, WIDTH / 2))
+        // an integer range includes its end: n bars take 0..n−1 (one bar needs a second slot)
+        .build_cartesian_2d((floor..high).log_scale(), (0..(n - 1).max(1)).into_segmented())
+        .map_err(|e| error(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc(value_label)
+        .axis_desc_style(("sans-serif", 22))
+        .label_style(("sans-serif", 17))
+        .x_label_formatter(&|v| tick_text(*v, 0.0))
+        .y_labels(n)
+        .y_label_formatter(&|v| match v {
+            // the first bar at the top
+            SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => n.checked_sub(i + 1).and_then(|k| bars.get(k)).map_or(String::new(), |b| b.label.to_string()),
+            SegmentValue::Last => String::new(),
+        })
+        .disable_y_mesh()
+        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()
+        .map_err(|e| error(&e))?;
+    let colour = PALETTE[0];
+    chart
+        .draw_series(bars.iter().enumerate().map(|(k, bar)| {
+            let i = n - 1 - k;
+            let mut rectangle = Rectangle::new([(floor, SegmentValue::Exact(i)), (bar.value.max(floor), SegmentValue::Exact(i + 1))], colour.filled());
+            rectangle.set_margin(4, 4, 0, 0);
+            rectangle
+        }))
+        .map_err(|e| error(&e))?
+        .label("largest difference")
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.filled()));
+    if let Some((label, value)) = bound {
+        let line = BLACK.stroke_width(2);
+        chart
+            .draw_series(DashedLineSeries::new(vec![(value, SegmentValue::Exact(0)), (value, SegmentValue::Last)], 12, 7, line))
+            .map_err(|e| error(&e))?
+            .label(label)
+            .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 24, y)], 6, 3, line));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .label_font(("sans-serif", 18))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| error(&e))?;
+    Ok(())
 }
 
 fn register_embedded_font() -> Result<(), String> {
@@ -187,7 +319,34 @@ fn tick_text(value: f64, resolution: f64) -> String {
     }
 }
 
-fn draw<XR, YR>(root: &DrawingArea<BitMapBackend, Shift>, plot: &Plot, (x_resolution, y_resolution): (f64, f64), x_spec: XR, y_spec: YR) -> Result<(), String>
+/// The legend goes to the upper right unless the data crowd that corner more than the lower
+/// right (a rising curve such as a settling velocity ends under an upper-right legend).
+fn legend_corner(plot: &Plot, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
+    let unit = |v: f64, (a, b): (f64, f64), log: bool| if log { (v.log10() - a.log10()) / (b.log10() - a.log10()) } else { (v - a) / (b - a) };
+    let (mut upper, mut lower) = (0usize, 0usize);
+    for &(x, y) in plot.series.iter().flat_map(|s| s.points.iter()) {
+        let (u, v) = (unit(x, (x0, x1), plot.log_x), unit(y, (y0, y1), plot.log_y));
+        if u > 0.5 {
+            upper += usize::from(v > 0.65);
+            lower += usize::from(v < 0.35);
+        }
+    }
+    if lower < upper {
+        SeriesLabelPosition::LowerRight
+    } else {
+        SeriesLabelPosition::UpperRight
+    }
+}
+
+fn draw<XR, YR>(
+    root: &DrawingArea<BitMapBackend, Shift>,
+    plot: &Plot,
+    styles: &[Style],
+    legend: SeriesLabelPosition,
+    (x_resolution, y_resolution): (f64, f64),
+    x_spec: XR,
+    y_spec: YR,
+) -> Result<(), String>
 where
     XR: AsRangedCoord<Value = f64>,
     YR: AsRangedCoord<Value = f64>,
@@ -216,27 +375,60 @@ where
         .draw()
         .map_err(|e| error(&e))?;
 
-    for (index, series) in plot.series.iter().enumerate() {
-        let colour = PALETTE[index % PALETTE.len()];
-        let line_style = colour.stroke_width(2);
-        // one path per segment: plotters joins a thick polyline with miters, which shoot far out
-        // of the frame where a spiky series turns back sharply (issue 15)
-        let segments: Vec<PathElement<(f64, f64)>> = match series.points {
-            [single] => vec![PathElement::new(vec![*single, *single], line_style)],
-            points => points.windows(2).map(|w| PathElement::new(vec![w[0], w[1]], line_style)).collect(),
+    // guides first (behind everything), then lines, computed markers, and exact curves last
+    // (dashed, over the computed values they are compared with, so both stay visible where
+    // they coincide)
+    let style_of = |index: usize| styles.get(index).copied().unwrap_or_default();
+    let rank = |style: Style| match style {
+        Style::Guide => 0,
+        Style::Line => 1,
+        Style::Computed => 2,
+        Style::Exact => 3,
+    };
+    let mut order: Vec<usize> = (0..plot.series.len()).collect();
+    order.sort_by_key(|&i| rank(style_of(i)));
+    for index in order {
+        let series = &plot.series[index];
+        let style = style_of(index);
+        let colour = match style {
+            Style::Exact => BLACK,
+            Style::Guide => RGBColor(110, 110, 110),
+            Style::Line | Style::Computed => PALETTE[index % PALETTE.len()],
         };
-        chart
-            .draw_series(segments)
-            .map_err(|e| error(&e))?
-            .label(series.label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3)));
-        if series.points.len() <= MARKER_LIMIT {
-            chart.draw_series(series.points.iter().map(|&point| Circle::new(point, 4, colour.filled()))).map_err(|e| error(&e))?;
+        match style {
+            Style::Exact | Style::Guide => {
+                let (width, dash, gap) = if style == Style::Exact { (2, 12, 7) } else { (2, 4, 5) };
+                let line = colour.stroke_width(width);
+                chart
+                    .draw_series(DashedLineSeries::new(series.points.iter().copied(), dash, gap, line))
+                    .map_err(|e| error(&e))?
+                    .label(series.label)
+                    .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 24, y)], dash / 2, gap / 2, line));
+            }
+            Style::Line | Style::Computed => {
+                let line_style = colour.stroke_width(if style == Style::Computed { 1 } else { 2 });
+                // one path per segment: plotters joins a thick polyline with miters, which shoot far out
+                // of the frame where a spiky series turns back sharply (issue 15)
+                let segments: Vec<PathElement<(f64, f64)>> = match series.points {
+                    [single] => vec![PathElement::new(vec![*single, *single], line_style)],
+                    points => points.windows(2).map(|w| PathElement::new(vec![w[0], w[1]], line_style)).collect(),
+                };
+                let computed = style == Style::Computed;
+                chart.draw_series(segments).map_err(|e| error(&e))?.label(series.label).legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new(vec![(0, 0), (24, 0)], colour.stroke_width(if computed { 1 } else { 3 }))
+                        + Circle::new((12, 0), if computed { 5 } else { 0 }, colour.filled())
+                });
+                if computed || series.points.len() <= MARKER_LIMIT {
+                    let radius = if computed { 5 } else { 4 };
+                    chart.draw_series(series.points.iter().map(|&point| Circle::new(point, radius, colour.filled()))).map_err(|e| error(&e))?;
+                }
+            }
         }
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(legend)
         .label_font(("sans-serif", 18))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
@@ -290,6 +482,33 @@ mod tests {
         }
         // Only the finished images remain: temporaries were renamed away.
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 4);
+    }
+
+    #[test]
+    fn styled_plots_and_bar_charts_write_pngs_and_refuse_bad_input() {
+        let dir = test_dir::fresh("plot_styled");
+        let computed = series_points(4, |h| 0.3 * h.powi(-2));
+        let exact = series_points(40, |h| 0.3 * h.powi(-2));
+        let plot = Plot {
+            title: "styled",
+            x_label: "h [m]",
+            y_label: "error [-]",
+            log_x: true,
+            log_y: true,
+            series: vec![Series { label: "computed", points: &computed }, Series { label: "exact", points: &exact }, Series { label: "guide", points: &exact }],
+        };
+        let path = dir.join("styled.png");
+        write_png_styled(&plot, &[Style::Computed, Style::Exact, Style::Guide], &path).unwrap();
+        assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        let bars = [Bar { label: "exactly equal", value: 0.0 }, Bar { label: "a case", value: 3e-12 }, Bar { label: "another case", value: 2e-9 }];
+        let path = dir.join("bars.png");
+        write_bar_chart_png("bars", "difference [-]", &bars, 1e-14, Some(("bound", 1e-8)), &path).unwrap();
+        assert_eq!(png_size(&path), (WIDTH, HEIGHT));
+        write_bar_chart_png("one bar", "difference [-]", &bars[1..2], 1e-14, None, &dir.join("one.png")).unwrap();
+        assert!(write_bar_chart_png("none", "d", &[], 1e-14, None, &dir.join("none.png")).unwrap_err().to_string().contains("no bars"));
+        let nan = [Bar { label: "broken", value: f64::NAN }];
+        assert!(matches!(write_bar_chart_png("nan", "d", &nan, 1e-14, None, &dir.join("nan.png")), Err(OutputError::NonFinite { .. })));
+        assert!(write_bar_chart_png("floor", "d", &bars, 0.0, None, &dir.join("floor.png")).is_err());
     }
 
     #[test]
@@ -359,7 +578,7 @@ mod frame_tests {
         let mut buffer = vec![0u8; (WIDTH * HEIGHT * 3) as usize];
         {
             let root = BitMapBackend::with_buffer(&mut buffer, (WIDTH, HEIGHT)).into_drawing_area();
-            draw(&root, plot, (0.01 * (x.1 - x.0), 0.01 * (y.1 - y.0)), x.0..x.1, y.0..y.1).unwrap();
+            draw(&root, plot, &[], SeriesLabelPosition::UpperRight, (0.01 * (x.1 - x.0), 0.01 * (y.1 - y.0)), x.0..x.1, y.0..y.1).unwrap();
             root.present().unwrap();
         }
         buffer

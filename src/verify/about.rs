@@ -1,0 +1,217 @@
+//! What each verification check checks and against which reference, for the report of
+//! `spillage verify --report` (issue 20). Keyed by the `[verify] check` name; a check without an
+//! entry here still appears in the report, with its case's `[case] description` only.
+
+/// A check's description for a reader of the report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct About {
+    /// What the check measures.
+    pub checks: &'static str,
+    /// The exact solution, formula or published data it is compared with.
+    pub reference: &'static str,
+    /// Where the spec states it.
+    pub spec: &'static str,
+}
+
+/// The description of `check`, if one is registered.
+pub fn about(check: &str) -> Option<About> {
+    ABOUT.iter().find(|(name, _)| *name == check).map(|(_, a)| *a)
+}
+
+const fn a(checks: &'static str, reference: &'static str, spec: &'static str) -> About {
+    About { checks, reference, spec }
+}
+
+const ABOUT: &[(&str, About)] = &[
+    (
+        "fluid_couette",
+        a(
+            "steady circular Couette flow between a turning inner and a fixed outer cylinder, on a ladder of meshes: rms errors of u_θ and of dp/dr, their observed orders, the radial velocity where a sliding interface joins rotor and stator cells",
+            "exact solution u_θ = A r + B/r, (1/ρ) dp/dr = u_θ²/r",
+            "spillage-and-flow-verification.md §3.2 (U-32), §3.4",
+        ),
+    ),
+    (
+        "fluid_free_stream",
+        a(
+            "a uniform stream through a (turning) non-conformal sliding interface must stay uniform: velocity deviation, pressure spread, interface flux imbalance",
+            "u = U exactly (free-stream preservation), to round-off",
+            "fluid-dem-model.md §4.2 (T3.33–T3.36); spillage-and-flow-verification.md §3.6",
+        ),
+    ),
+    (
+        "fluid_poiseuille",
+        a(
+            "plane Poiseuille flow (periodic with a body force, or inlet/outlet): on uniform meshes the closed-form discrete solution to solver tolerance, on graded meshes the observed order",
+            "u = g/(2ν) η(H − η) (or 6U η(H − η)/H²) and its exact discrete counterpart",
+            "textbook channel flow; fluid-dem-model.md §8.2, §8.8",
+        ),
+    ),
+    (
+        "fluid_taylor_green",
+        a(
+            "decaying 2-D Taylor–Green vortex, space and time refined together: kinetic-energy decay and velocity errors, observed orders",
+            "u = U sin(x/L) cos(y/L) e^(−2νt/L²), KE ∝ e^(−4νt/L²)",
+            "textbook; fluid-dem-model.md §8.1–§8.5 (second-order schemes)",
+        ),
+    ),
+    (
+        "coupling_settling",
+        a(
+            "one 10 mm sphere settling in still water, two-way coupled, per mapping method (kernel, diffusion, centroid) and mesh: terminal velocity and the transient",
+            "the particle equation of motion solved independently (analytic crate, Brown–Lawler drag, added mass 0.5); the centroid method's documented failure at d_p/Δx = 1.5",
+            "particle-verification.md §2 (case P1, Tables 6.1–6.3); fluid-dem-model.md §6.1",
+        ),
+    ),
+    (
+        "coupling_stokes",
+        a(
+            "a 400 µm sphere settling under Stokes drag at several Δt: largest velocity error and its order in Δt",
+            "exact Stokes transient u(t) = u_t (1 − e^(−t/τ)); the source's largest error 7.84e-3 m/s",
+            "particle-verification.md §1.1, §8; fluid-dem-model.md §5.2, §5.9",
+        ),
+    ),
+    (
+        "coupling_hindered",
+        a(
+            "settling of a cloud of spheres at particle fraction α_p: median settling velocity over a time window",
+            "thesis Table 6.3 (Di Felice closure), shown with Richardson–Zaki (Rowe exponent)",
+            "particle-verification.md §4 (case P3); fluid-dem-model.md §5.6",
+        ),
+    ),
+    (
+        "coupling_hydrostatic",
+        a(
+            "a suspension settling in a closed box: the vertical pressure gradient in the cloud must carry the mixture weight; the literal T3.2 feedback must miss it",
+            "ρ_m g = (α_p ρ_p + (1 − α_p) ρ_c) g",
+            "fluid-dem-model.md §2.6, §12 (U-33); wear-model.md §12.2",
+        ),
+    ),
+    (
+        "coupling_interface",
+        a(
+            "a sphere settling through a stationary sliding interface, with and without the interface mask: velocity disturbance and continuity errors",
+            "the same run without an interface; thesis Table 6.4",
+            "particle-verification.md §3 (case P2)",
+        ),
+    ),
+    (
+        "dem_hertz_elastic",
+        a(
+            "elastic normal impacts at several speeds: peak overlap, peak force, contact time, energy conservation",
+            "Hertz contact theory (closed form)",
+            "fluid-dem-model.md §7.1–§7.2; particle-verification.md §1.5",
+        ),
+    ),
+    (
+        "dem_dry_restitution",
+        a(
+            "damped normal impacts in vacuum: rebound/approach speed for several input restitutions and speeds",
+            "the input restitution e (T3.101 is exact for Hertz damping)",
+            "fluid-dem-model.md §7.3",
+        ),
+    ),
+    (
+        "dem_wet_restitution",
+        a(
+            "a sphere approaching a wall through still fluid (drag, added mass, buoyancy) over a range of Stokes numbers: effective restitution",
+            "Legendre et al. wet-restitution law e_wet(St) = e_dry exp(−35/St)",
+            "fluid-dem-model.md §7.5 (T3.103–T3.104); particle-verification.md §5.2 (case C2)",
+        ),
+    ),
+    (
+        "dem_oblique",
+        a(
+            "oblique impacts (sphere–wall or sphere–sphere) over impact angles: rebound tangential velocity, spin and rebound angle in the stick and gross-slip regimes",
+            "Walton's hard-sphere model (Foerster et al. 1994)",
+            "particle-verification.md §1.6, §5.3, §5.5; fluid-dem-model.md §7.7",
+        ),
+    ),
+    (
+        "dem_moving_wall",
+        a(
+            "a sphere on a rotating disc, or hit by a rotating blade: contact-point velocity and rebound speed",
+            "rigid-wall kinematics: sticking contact moves with the wall; rebound at (1 + e) × blade speed",
+            "fluid-dem-model.md §7.4",
+        ),
+    ),
+    (
+        "dem_tessellated_plane",
+        a("impacts on a plane made of triangles, on edges and vertices: the same rebound as on the analytic plane", "the analytic plane", "fluid-dem-model.md §7.4, §7.8"),
+    ),
+    (
+        "dem_pile",
+        a("particles poured into a pile: settles to rest without overlap growth or energy gain", "static equilibrium (bounded overlap, kinetic energy → 0)", "fluid-dem-model.md §7.6, §7.8"),
+    ),
+    (
+        "cutter_head_flow",
+        a(
+            "water through the back-plate cutter head at 60 rpm and 0.12 m³/s: out-flowing flux through the contour hull and the net flux (`--full`: 30–90 rpm and two finer meshes)",
+            "thesis CFD: out-flowing flux ≈ half the suction discharge, rising with rpm (Fig. 8.1); continuity: net inflow = suction discharge (Eq. 8.3); shown with the analytic spillage model's Q₁",
+            "spillage-and-flow-verification.md §4, §5.1, §5.2; §2 (analytic model)",
+        ),
+    ),
+    (
+        "wear_stream",
+        a(
+            "a stream of particles against a plate at impact angles 15–90°: removed volume per particle mass and the volume bookkeeping of smoothing and recession",
+            "the erosion law evaluated by the analytic crate; exact volume identities",
+            "wear-model.md §6 (Arabnejad), §7.1–§7.3, §15",
+        ),
+    ),
+    (
+        "wear_profile",
+        a(
+            "the Coriolis tester arm at 3000 rpm: wear profile along the coupon, position of the first peak, second region ratio, bookkeeping",
+            "thesis Ch. 5 (Tables 5.1–5.2): deepest wear ≈ 10 ± 3 mm after the step, second region 0.4–0.75 of the first",
+            "wear-model.md §12.4",
+        ),
+    ),
+    (
+        "rotating_frame_free_particle",
+        a(
+            "free particles seen from the turning frame: position errors against the exact trajectory, observed order in Δt, A39 and A40",
+            "rigid-rotation kinematics: A39 (Ω, Ω²r at 3000 rpm), A40 |r|² = |r₀|²(1 + Ω²t²)",
+            "wear-model.md §2.6, §15 (A39–A40)",
+        ),
+    ),
+    (
+        "rotating_frame_fluid_at_rest",
+        a(
+            "water at rest in the rotating frame, both fluid solvers: spurious velocity and the centrifugal pressure (and its order on annulus meshes)",
+            "p − p_in = ½ρΩ²(r² − r_in²), u = 0",
+            "wear-model.md §2.6 [R], §13 row 16",
+        ),
+    ),
+    (
+        "rotating_frame_equivalence",
+        a(
+            "a channel flow in the rotating frame (Coriolis acting): fast vs reference fluid step by step; the cross-duct pressure carries the Coriolis force",
+            "the reference solver (≤ 1e-8); ΔP = −2Ω_z ∫u dy",
+            "wear-model.md §2.6; issue #6 (equivalence bound)",
+        ),
+    ),
+    (
+        "rotating_frame_settling",
+        a(
+            "a grain drifting outwards through water at rest in the frame: position error, observed order in Δt, drift rates",
+            "the exact solution of the linear drift equation (complex exponential), centrifugal terminal velocity u_t/(1 + a²)",
+            "wear-model.md §2.6, §12.2",
+        ),
+    ),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every description names a known check (a check without one still appears in the
+    /// report, marked as undescribed).
+    #[test]
+    fn every_description_names_a_known_check() {
+        let known = super::super::known_checks();
+        for (name, _) in ABOUT {
+            assert!(known.contains(name), "about.rs describes an unknown check `{name}`");
+        }
+    }
+}

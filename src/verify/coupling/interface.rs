@@ -1,0 +1,90 @@
+//! P2: a sphere settling through a stationary sliding interface, with and without the interface
+//! mask (particle-verification.md §3, Table 6.4).
+
+use super::*;
+
+/// The same annulus without the interface: one block with the rotor's and stator's rings and
+/// the mean of their cells around.
+fn without_interface(case: &Case) -> Result<Case> {
+    let mut plain = case.clone();
+    let Some(MeshSection::RotorStator { r_inner, r_outer, z_min, z_max, n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, n_z, two_d, .. }) =
+        case.mesh.clone()
+    else {
+        bail!("{}: the interface check needs a rotor_stator mesh", case.path.display());
+    };
+    plain.mesh = Some(MeshSection::Annulus {
+        r_inner,
+        r_outer,
+        z_min,
+        z_max,
+        n_r: n_r_rotor + n_r_stator,
+        n_theta: (n_theta_rotor + n_theta_stator) / 2,
+        n_z,
+        radial_grading: 1.0,
+        two_d,
+    });
+    Ok(plain)
+}
+
+pub(super) fn interface_crossing(base: &Case, full: bool, solver: FluidSolver) -> Result<Vec<CheckRow>> {
+    let name = base.case.name.as_str();
+    let case = if full { refined(base, number(base, "full_refinement")? as usize)? } else { base.clone() };
+    let volume = sphere(&case, 0.5)?.volume();
+    let plain = run(&without_interface(&case)?, solver)?;
+    let mut rows = Vec::new();
+    let mut largest = [0.0f64; 2];
+    for (k, mask) in [false, true].into_iter().enumerate() {
+        let mut c = case.clone();
+        c.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.interface_mask = mask;
+        let trace = run(&c, solver)?;
+        // the interface's effect: the velocity difference to the run without it, relative to
+        // that run's final (near-terminal) velocity, as Table 6.4's relative error
+        let terminal = plain.settling.last().copied().unwrap_or(f64::NAN).abs();
+        largest[k] = trace.settling.iter().zip(&plain.settling).map(|(u, v)| (u - v).abs()).fold(0.0, f64::max) / terminal;
+        if mask {
+            let global = trace.continuity_global.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
+            let cumulative = trace.continuity_cumulative.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
+            let local = trace.continuity_cell_max.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
+            rows.push(CheckRow::at_most(
+                name,
+                "masked: relative velocity difference to no interface",
+                solver.label(),
+                largest[k],
+                number(base, "velocity_difference")?,
+            ));
+            rows.push(CheckRow::at_most(name, "masked: largest |global continuity error| / V_p", solver.label(), global, number(base, "continuity_global")?));
+            rows.push(CheckRow::at_most(
+                name,
+                "masked: largest |cumulative continuity error| / V_p",
+                solver.label(),
+                cumulative,
+                number(base, "continuity_cumulative")?,
+            ));
+            rows.push(CheckRow::at_most(name, "masked: largest single-cell continuity error / V_p", solver.label(), local, number(base, "continuity_local")?));
+        }
+    }
+    // the mask's purpose (§6.7): the crossing disturbs the particle less than without it
+    rows.push(CheckRow::at_least(
+        name,
+        "unmasked / masked velocity difference (the mask helps)",
+        solver.label(),
+        largest[0] / largest[1].max(1e-300),
+        number(base, "mask_gain")?,
+    ));
+    Ok(rows)
+}
+
+/// `case` with its rotor/stator mesh refined `factor` times in r and θ.
+fn refined(case: &Case, factor: usize) -> Result<Case> {
+    let mut fine = case.clone();
+    match fine.mesh.as_mut() {
+        Some(MeshSection::RotorStator { n_r_rotor, n_r_stator, n_theta_rotor, n_theta_stator, .. }) => {
+            *n_r_rotor *= factor;
+            *n_r_stator *= factor;
+            *n_theta_rotor *= factor;
+            *n_theta_stator *= factor;
+            Ok(fine)
+        }
+        _ => bail!("{}: the interface check needs a rotor_stator mesh", case.path.display()),
+    }
+}
