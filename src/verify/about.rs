@@ -199,6 +199,22 @@ const ABOUT: &[(&str, About)] = &[
             "wear-model.md §2.6, §12.2",
         ),
     ),
+    (
+        "turbulent_channel",
+        a(
+            "the fully developed turbulent half channel (realizable k–ε, standard wall functions), driven by a body force, run to steady state by both fluid solvers: U⁺(y⁺) against the log law, C_f against Dean, the wall shear stress against u_τ² (momentum balance), U_b under mesh and Δt refinement",
+            "log law U⁺ = ln(y⁺)/0.41 + 5.2; Dean (1978) C_f = 0.073 Re_m^(−1/4); OpenFOAM v1912 realizableKE on the same mesh (benches/peers/openfoam_channel)",
+            "fluid-dem-model.md §3.1–3.2 (T3.13–T3.21), §8.10",
+        ),
+    ),
+    (
+        "backward_facing_step",
+        a(
+            "the separated flow behind a backward-facing step (expansion 9/8, Re_H = 37 500, realizable k–ε with wall functions): the mean reattachment length from the sign change of the wall-cell velocity, and its spread over the last steps",
+            "Driver & Seegmiller (1985), measured x_r = 6.26 H",
+            "fluid-dem-model.md §3.2, §8.10",
+        ),
+    ),
 ];
 
 #[cfg(test)]
