@@ -89,7 +89,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set up the thread pool")?;
     let restart = match &opts.restart {
-        Some(path) => Some(spillage_model::checkpoint::read(path, Some(&case.case.name))?),
+        Some(path) => Some(spillage_model::checkpoint::read(path, &case)?),
         None => None,
     };
     let default = Path::new("results").join(&case.case.name);
@@ -299,7 +299,7 @@ impl Running<'_> {
 
     fn checkpoint(&self, state: &State) -> anyhow::Result<()> {
         let path = self.out.join("checkpoints").join(format!("step_{:08}.ckpt", state.step));
-        spillage_model::checkpoint::write(&path, &self.case.case.name, state)?;
+        spillage_model::checkpoint::write(&path, self.case, state)?;
         Ok(())
     }
 }
