@@ -101,7 +101,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let mut summary = Summary::new(&case.case.name, solver.name());
     summary.set_detail("case_file", case.path.display().to_string());
     summary.set_detail("threads", threads as u64);
-    summary.set_detail("derived", serde_json::to_value(crate::check::derive(&case))?);
+    summary.set_detail("derived", serde_json::to_value(spillage::check::derive(&case))?);
     if let Some(path) = &opts.restart {
         summary.set_detail("restarted_from", path.display().to_string());
     }
