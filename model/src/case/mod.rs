@@ -6,6 +6,7 @@
 //! [`locate`] maps back to a line and column of the file.
 
 pub mod error;
+pub mod limits;
 pub mod locate;
 pub mod mesh_section;
 pub mod parse_error;
@@ -294,7 +295,7 @@ impl Case {
             let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).chain(head_walls.iter().map(|n| n.as_str())).collect();
             wear.validate(&names)?;
         }
-        Ok(())
+        limits::check(self)
     }
 }
 
