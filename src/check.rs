@@ -194,6 +194,8 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
     let case = Case::from_bytes(bytes, path)?;
     let d = derive(&case);
     let mut lines = Vec::new();
+    let placement = spillage_model::particles::placement::check_initial_placement(&case, path.parent().unwrap_or(Path::new("")))
+        .map_err(|field| Case::located(&String::from_utf8_lossy(bytes), path, field))?;
     let mut push = |line: String| lines.push(line);
 
     push(format!("case         {} ({})", case.case.name, path.display()));
@@ -238,6 +240,15 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
     }
     if case.mesh.is_some() || case.cutter_head.is_some() {
         push(format!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6));
+    }
+    match placement {
+        Some(0) => {}
+        Some(n) => push(format!("placement    {n} initial particles clear of the walls and of each other")),
+        None => push(format!(
+            "placement    not checked: about {:.0} initial particles (more than {})",
+            spillage_model::particles::placement::estimated_count(&case),
+            spillage_model::particles::placement::CHECKED_MAX
+        )),
     }
     let warnings = spillage_model::case::unusual::warnings(&case);
     Ok(Report { case, lines, warnings })

@@ -92,6 +92,14 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         Some(path) => Some(spillage_model::checkpoint::read(path, &case)?),
         None => None,
     };
+    if restart.is_none() {
+        // initial particles overlapping a wall or each other blow up in the first step
+        let dir = opts.case.parent().unwrap_or(Path::new(""));
+        spillage_model::particles::placement::check_initial_placement(&case, dir).map_err(|field| {
+            let text = std::fs::read_to_string(&opts.case).unwrap_or_default();
+            Case::located(&text, &opts.case, field)
+        })?;
+    }
     let default = Path::new("results").join(&case.case.name);
     let out = crate::results_folder::prepare(opts.out.as_deref(), &default, restart.as_ref().map(|s| s.step), opts.force)?;
     let restart_time = restart.as_ref().map(|s| s.time);

@@ -99,13 +99,15 @@ impl Case {
             CaseError { file: path.to_path_buf(), line: Some(line), column: Some(column), kind: CaseErrorKind::Parse(message) }
         })?;
         case.path = path.to_path_buf();
-        case.finish().map_err(|field| {
-            // a key of a missing section has no place in the file: the file's start
-            let (line, column) = locate::key_position(text, &field.key).unwrap_or((1, 1));
-            let (line, column) = (Some(line), Some(column));
-            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Invalid(field) }
-        })?;
+        case.finish().map_err(|field| Case::located(text, path, field))?;
         Ok(case)
+    }
+
+    /// A validation error of the case read from `text` at `path`, located at its key.
+    pub fn located(text: &str, path: &Path, field: FieldError) -> CaseError {
+        // a key of a missing section has no place in the file: the file's start
+        let (line, column) = locate::key_position(text, &field.key).unwrap_or((1, 1));
+        CaseError { file: path.to_path_buf(), line: Some(line), column: Some(column), kind: CaseErrorKind::Invalid(field) }
     }
 
     /// Validates the case and derives what follows from it (a cutter head's floor and suction
