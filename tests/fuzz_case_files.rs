@@ -221,3 +221,124 @@ fn mutated_case_files_never_panic_and_every_error_names_its_place_and_key() {
     eprintln!("fuzz_case_files: {counts:?}");
     assert!(counts.panics == 0 && counts.without_position == 0 && counts.without_key == 0 && counts.unprintable == 0, "{counts:?}\n{}", examples.join("\n"));
 }
+
+/// Shipped cases small enough to run two steps in a moment (no cutter head, small meshes).
+const RUNNABLE: &[&str] = &[
+    "pour.toml",
+    "verification/dem/hertz_sphere_wall.toml",
+    "verification/dem/oblique_pair.toml",
+    "verification/dem/moving_wall_blade.toml",
+    "verification/dem/pile.toml",
+    "verification/rotating_frame/free_particle.toml",
+    "verification/coupling/settling_single.toml",
+    "verification/coupling/stokes_settling.toml",
+    "verification/fluid/couette_wall_velocity.toml",
+    "verification/fluid/poiseuille_inlet_outlet.toml",
+    "verification/wear/stream_plate.toml",
+    "rotor_stator.toml",
+];
+
+/// `text` run for two steps: the `[time]` section's end replaced by `steps = 2`, no output
+/// files but the series and the summary.
+fn two_steps(text: &str) -> String {
+    let mut out = Vec::new();
+    let mut section = String::new();
+    for line in text.lines() {
+        let trimmed = line.trim();
+        if trimmed.starts_with('[') {
+            section = trimmed.trim_matches(|c| c == '[' || c == ']').to_string();
+        }
+        let key = trimmed.split('=').next().unwrap_or("").trim();
+        if section == "time" && ["end_time", "steps", "revolutions"].contains(&key) {
+            continue;
+        }
+        if section == "output" && ["paraview", "plots"].contains(&key) {
+            continue;
+        }
+        out.push(line.to_string());
+        if trimmed == "[time]" {
+            out.push("steps = 2".into());
+        }
+        if trimmed == "[output]" {
+            out.push("paraview = false\nplots = false".into());
+        }
+    }
+    if !text.contains("[output]") {
+        out.push("[output]\nparaview = false\nplots = false".into());
+    }
+    out.join("\n")
+}
+
+/// A numeric value outside `[time]` scaled or zeroed: mostly still a valid case, so it runs.
+fn mutate_value(text: &str, rng: &mut Rng) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut section = String::new();
+    let mut numeric = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        if line.trim_start().starts_with('[') {
+            section = line.trim().to_string();
+        }
+        let value = line.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default();
+        if section != "[time]" && value.parse::<f64>().is_ok() {
+            numeric.push(i);
+        }
+    }
+    if numeric.is_empty() {
+        return text.to_string();
+    }
+    let i = *rng.pick(&numeric);
+    let (key, value) = lines[i].split_once('=').unwrap();
+    let value: f64 = value.trim().parse().unwrap();
+    let factor = *rng.pick(&[0.0, -1.0, 0.5, 2.0, 0.1, -0.5]);
+    let new = value * factor;
+    // an integer stays written as one (counts, seeds)
+    let written = if lines[i].contains('.') || lines[i].contains('e') { format!("{new:?}") } else { format!("{}", new as i64) };
+    lines[i] = format!("{key}= {written}");
+    lines.join("\n")
+}
+
+/// Mutated small cases that pass `check` run two steps: no panic, and a failure is an error
+/// message (status 2).
+#[test]
+fn mutated_small_cases_run_two_steps_without_panic() {
+    const RUNS_PER_CASE: usize = 3;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let scratch = std::env::temp_dir().join(format!("spillage-fuzz-runs-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let mut rng = Rng(41);
+    let (mut runs, mut failed, mut bad) = (0, 0, Vec::new());
+    for relative in RUNNABLE {
+        let original = root.join(relative);
+        let text = two_steps(&std::fs::read_to_string(&original).unwrap());
+        // beside the original, so STL walls and relative paths resolve
+        let path = original.with_file_name(format!("fuzz-{}-{}", std::process::id(), original.file_name().unwrap().to_string_lossy()));
+        let mut accepted = 0;
+        for _ in 0..4 * RUNS_PER_CASE {
+            if accepted == RUNS_PER_CASE {
+                break;
+            }
+            let mutated = mutate_value(&text, &mut rng);
+            if spillage::check::inspect(mutated.as_bytes(), &path).is_err() {
+                continue;
+            }
+            accepted += 1;
+            std::fs::write(&path, &mutated).unwrap();
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_spillage"))
+                .args(["run", path.to_str().unwrap(), "--force", "--threads", "1", "--out", scratch.join("out").to_str().unwrap()])
+                .output()
+                .unwrap();
+            let _ = std::fs::remove_file(&path);
+            runs += 1;
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            match out.status.code() {
+                Some(0) => {}
+                Some(2) if stderr.contains("error: ") && !stderr.contains("panicked") => failed += 1,
+                _ => bad.push(format!("{relative}: status {:?}\n{stderr}\n--- case ---\n{mutated}", out.status)),
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    eprintln!("fuzz runs: {runs} runs, {failed} stopped with an error, {} panicked or crashed", bad.len());
+    assert!(runs >= 24, "only {runs} mutated cases passed check");
+    assert!(bad.is_empty(), "{}", bad.join("\n\n"));
+}
