@@ -32,6 +32,9 @@ pub const VISCOSITY_MAX: f64 = 10.0;
 pub const STEPS_PER_COLLISION: (f64, f64) = (1.0, 1000.0);
 /// Sub-steps per step with a fixed `particles.substep`, and steps per run.
 pub const STEPS_MAX: f64 = 1e9;
+/// DEM sub-steps per step from the collision time: each costs a contact search over every
+/// particle, so 1e7 of them are hours per step.
+pub const SUBSTEPS_MAX: f64 = 1e7;
 /// Particles a group or a feed may make.
 pub const PARTICLES_MAX: f64 = 1e7;
 /// |g| [m/s²]: a centrifuge reaches 1e4 g; nothing here does.
@@ -119,6 +122,26 @@ pub fn check(case: &Case) -> Result<(), FieldError> {
         at_most("particles.collision_speed", p.collision_speed, SPEED_MAX, "a speed (m/s)")?;
         if let (Some(sub), Some(dt)) = (p.substep, dt) {
             at_most("particles.substep", dt / sub, STEPS_MAX, &format!("a sub-step giving a number of sub-steps per step of {dt} s"))?;
+        }
+        if let (None, Some(dt)) = (p.substep, dt) {
+            // the sub-step of the smallest, stiffest pair at the collision speed, as the DEM
+            // sets it (spec §7.6; `spillage check` prints it)
+            let d_min = p.feed.iter().map(|f| f.diameter.smallest()).chain(p.groups.iter().map(|g| group_diameter(g).smallest())).fold(f64::INFINITY, f64::min);
+            let stiffest = p
+                .materials
+                .iter()
+                .map(|m| (m.density, m.contact_youngs_modulus() / (2.0 * (1.0 - m.poisson_ratio * m.poisson_ratio))))
+                .fold((0.0, 0.0), |a: (f64, f64), b| (a.0.max(b.0), a.1.max(b.1)));
+            if d_min.is_finite() && stiffest.1 > 0.0 {
+                let t_col = crate::closure::collision_time::collision_time(stiffest.0, stiffest.1, 0.25 * d_min, p.collision_speed);
+                let key = if case.time.dt.is_some() { "time.dt" } else { "time.max_dt" };
+                at_most(
+                    key,
+                    dt * p.steps_per_collision / t_col,
+                    SUBSTEPS_MAX,
+                    &format!("a step giving DEM sub-steps (collisions last {t_col:.3e} s) per step"),
+                )?;
+            }
         }
         for (i, m) in p.materials.iter().enumerate() {
             at_most(&format!("particles.materials.{i}.density"), m.density, DENSITY_MAX, "a density (kg/m³)")?;
@@ -208,6 +231,15 @@ fn mesh_lengths(mesh: &MeshSection) -> Result<f64, FieldError> {
     }
 }
 
+fn group_diameter(g: &GroupSection) -> &Diameter {
+    match g {
+        GroupSection::List { diameter, .. }
+        | GroupSection::Lattice { diameter, .. }
+        | GroupSection::HeadLattice { diameter, .. }
+        | GroupSection::Random { diameter, .. } => diameter,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::path::Path;
@@ -238,6 +270,8 @@ mod tests {
         assert!(err.contains("key `rotor.omega`"), "{err}");
         let err = edited("pour.toml", "dt = 1e-3", "dt = 1e-300").unwrap_err();
         assert!(err.contains("key `time.dt`"), "{err}");
+        let err = edited("pour.toml", "dt = 1e-3", "dt = 1e4").unwrap_err();
+        assert!(err.contains("key `time.dt`") && err.contains("DEM sub-steps"), "{err}");
         let err = edited("pour.toml", "density = 2650.0", "density = 1e300").unwrap_err();
         assert!(err.contains("key `particles.materials.0.density`"), "{err}");
     }

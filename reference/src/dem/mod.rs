@@ -61,6 +61,9 @@ pub struct ReferenceDem {
     watch: contacts::Watch,
     /// The step's energy budget ([`EnergyBudget`]).
     budget: EnergyBudget,
+    /// The first id of the particles fed in the current step (the state's next id at the end
+    /// of the last step, or when the phase was set up).
+    fed_from: u64,
 }
 
 /// A step's energy balance (issue 14 item 4: a sphere started on a wall went from 6.6e-4 J to
@@ -75,6 +78,10 @@ struct EnergyBudget {
     external: f64,
     /// Work of the moving walls in this step [J].
     walls: f64,
+    /// Elastic energy of the first touches of particles fed in this step [J]
+    /// ([`contacts::Watch::new_contact_energy`]): where the feed put them, not what a contact
+    /// made.
+    placed: f64,
     /// Elastic energy stored at the end of the last step [J]; `None` before the first step of
     /// this phase (a restart's contacts are unknown until their first evaluation).
     elastic_end: Option<f64>,
@@ -139,6 +146,7 @@ impl ReferenceDem {
             samples: Vec::new(),
             watch: contacts::Watch::default(),
             budget: EnergyBudget::default(),
+            fed_from: state.particles.as_ref().map_or(0, |p| p.next_id),
             materials,
             section,
         })
@@ -292,9 +300,18 @@ impl ReferenceDem {
     /// Contact forces and torques at the current positions (fluid-dem-model.md §7.8).
     fn evaluate_contacts(&mut self, particles: &mut ParticleState, walls: &WallState, time: f64, dt: f64) {
         let mut impacts = Vec::new();
-        let context = contacts::Context { materials: &self.materials, walls: &walls.walls, meshes: &self.wall_meshes, wet_fluid: self.wet_fluid, time, dt };
+        let context = contacts::Context {
+            materials: &self.materials,
+            walls: &walls.walls,
+            meshes: &self.wall_meshes,
+            wet_fluid: self.wet_fluid,
+            time,
+            dt,
+            fed_from: self.fed_from,
+        };
         self.samples = contacts::evaluate(&context, &mut particles.particles, &mut self.history, &mut impacts, &mut self.watch);
         self.budget.walls += dt * self.watch.wall_power;
+        self.budget.placed += self.watch.new_contact_energy;
         particles.counts.impacts += impacts.len() as u64;
         particles.impacts.extend(impacts);
     }
@@ -310,9 +327,10 @@ impl ReferenceDem {
         let (kinetic_start, kinetic_end): (f64, f64) = (budget.start.iter().sum(), particles.iter().map(|p| p.kinetic_energy()).sum());
         let elastic_end = self.watch.elastic_energy;
         let Some(elastic_start) = budget.elastic_end.replace(elastic_end).or(elastic_start) else { return Ok(()) };
-        let gain = (kinetic_end + elastic_end) - (kinetic_start + elastic_start) - budget.external - budget.walls;
+        let supplied = budget.external + budget.walls + budget.placed;
+        let gain = (kinetic_end + elastic_end) - (kinetic_start + elastic_start) - supplied;
         let at_collision_speed: f64 = particles.iter().map(|p| 0.5 * p.mass() * self.section.collision_speed.powi(2)).sum();
-        let scale = kinetic_start + kinetic_end + elastic_start + elastic_end + budget.external.abs() + budget.walls.abs() + at_collision_speed;
+        let scale = kinetic_start + kinetic_end + elastic_start + elastic_end + budget.external.abs() + budget.walls.abs() + budget.placed + at_collision_speed;
         if gain <= ENERGY_GAIN_MAX * scale {
             return Ok(());
         }
@@ -331,8 +349,7 @@ impl ReferenceDem {
             step: ctx.step,
             time: ctx.time_end(),
             what: format!(
-                "the particles' kinetic energy grew from {kinetic_start:.3e} J to {kinetic_end:.3e} J, {gain:.3e} J more than gravity, the fluid and the moving walls supplied ({:.3e} J) and the contacts had stored ({elastic_start:.3e} J){culprit}",
-                budget.external + budget.walls
+                "the particles' kinetic energy grew from {kinetic_start:.3e} J to {kinetic_end:.3e} J, {gain:.3e} J more than gravity, the fluid, the moving walls and new contacts supplied ({supplied:.3e} J) and the contacts had stored ({elastic_start:.3e} J){culprit}"
             ),
         })
     }
@@ -367,7 +384,7 @@ impl ParticlePhase for ReferenceDem {
         self.load = ParticleLoad::zeros(if self.feedback.is_some() { particles.particles.len() } else { 0 });
         self.budget.start.clear();
         self.budget.start.extend(particles.particles.iter().map(|p| p.kinetic_energy()));
-        (self.budget.external, self.budget.walls) = (0.0, 0.0);
+        (self.budget.external, self.budget.walls, self.budget.placed) = (0.0, 0.0, 0.0);
         self.watch.fault = None;
         for k in 0..n {
             let elapsed = (k + 1) as f64 * dt_s;
@@ -384,6 +401,7 @@ impl ParticlePhase for ReferenceDem {
             }
         }
         self.check_energy(ctx, &particles.particles, elastic_start)?;
+        self.fed_from = particles.next_id;
         self.store_history(particles);
         let max_overlap_ratio = self.samples.iter().map(|s| s.overlap / s.radius).fold(0.0, f64::max);
         report.values.extend([
