@@ -232,6 +232,9 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
         (None, _, _) => push(format!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN))),
         _ => {}
     }
+    for line in turbulence_lines(&case, &d) {
+        push(line);
+    }
     for line in particle_lines(&case) {
         push(line);
     }
@@ -296,6 +299,21 @@ fn wear_lines(case: &Case) -> Vec<String> {
             removed.total() * law.wall_density() / (material.density * volume),
             if removed.total() > volume { "; more than the particle itself: check the hardness units (wear-model.md §6.7)" } else { "" }
         ));
+    }
+    lines
+}
+
+/// The turbulence model and, with an imposed velocity, where the first cells sit in wall units:
+/// y⁺ ≈ (h/2) u_τ/ν with u_τ ≈ 0.04 U (C_f ≈ 0.003, a turbulent wall far from separation).
+fn turbulence_lines(case: &Case, d: &Derived) -> Vec<String> {
+    if !case.turbulence.is_k_epsilon() {
+        return Vec::new();
+    }
+    let mut lines = vec!["turbulence   realizable k–ε with standard wall functions (first cell centres at 30 < y⁺ < 500)".to_string()];
+    if let (Some(u), Some(h), Some(fluid)) = (d.velocity_scale, d.min_cell_size, case.fluid.as_ref()) {
+        let y_plus = 0.5 * h * 0.04 * u / fluid.kinematic_viscosity;
+        let note = if y_plus < 30.0 { "  (below 30: the wall cells are in the buffer layer, where the log law does not hold)" } else { "" };
+        lines.push(format!("             y⁺ of the smallest cells ≈ {y_plus:.0} (estimate, u_τ ≈ 0.04 U){note}"));
     }
     lines
 }

@@ -83,6 +83,22 @@ impl Frames {
             if let Some(f) = matching(&coupling.force_density, mesh.n_cells()) {
                 cell_data.push(Field::vector("particle_force_density", f));
             }
+            // the k–ε fields, and y⁺ of each wall cell (the largest over its wall faces; 0 away
+            // from walls) so that ParaView shows where the wall functions are valid
+            let wall_y_plus = state.fluid.as_ref().and_then(|f| f.turbulence.as_ref()).map(|t| {
+                let mut cell = vec![0.0f64; mesh.n_cells()];
+                for (index, y_plus) in t.y_plus.iter().enumerate() {
+                    let owner = mesh.face_owner[mesh.n_internal_faces + index];
+                    cell[owner] = cell[owner].max(*y_plus);
+                }
+                cell
+            });
+            if let (Some(t), Some(y_plus)) = (&fluid.turbulence, &wall_y_plus) {
+                cell_data.push(Field::scalar("k", &t.k));
+                cell_data.push(Field::scalar("epsilon", &t.epsilon));
+                cell_data.push(Field::scalar("nu_t", &t.nu_t));
+                cell_data.push(Field::scalar("y_plus", y_plus));
+            }
             let values = points.len() * 3 + numbers(&cell_data);
             let grid = UnstructuredGrid { points: &points, cells: &cells, point_data: vec![], cell_data };
             let encoding = Encoding::by_size(values, BINARY_ABOVE);

@@ -21,6 +21,7 @@
 //! - [`rotating_frame`]: the Coriolis tester's rotation (A39), a free particle seen from a
 //!   rotating frame (A40), a sphere drifting out through fluid at rest in the frame, and the
 //!   centrifugal pressure of fluid at rest in the frame.
+//! - [`turbulent_channel`]: the log law of the wall and Dean's channel skin friction.
 //! - helpers: [`roots`], [`ode`], [`special`], [`error`].
 
 // Input checks are written `!(x > 0.0)` on purpose so that NaN is rejected too.
@@ -42,6 +43,7 @@ pub mod settling;
 pub mod sliding_interface;
 pub mod special;
 pub mod spillage_model;
+pub mod turbulent_channel;
 
 pub use error::{AnalyticError, Result};
 

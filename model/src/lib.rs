@@ -17,5 +17,6 @@ pub mod solver;
 pub mod state;
 pub mod state_diff;
 pub mod step;
+pub mod turbulence;
 pub mod walls;
 pub mod wear;

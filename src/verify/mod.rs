@@ -9,6 +9,8 @@ pub mod cutter_head;
 pub mod dem;
 pub mod fluid;
 pub mod rotating_frame;
+pub mod turbulence;
+pub mod turbulence_step;
 pub mod wear;
 
 use std::path::{Path, PathBuf};
@@ -108,6 +110,9 @@ fn dispatch(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> anyho
     if rotating_frame::CHECKS.contains(&check) {
         return rotating_frame::run_check(case, check, full);
     }
+    if turbulence::CHECKS.contains(&check) {
+        return turbulence::run_check(case, check, full, plots);
+    }
     anyhow::bail!("{}: unknown verification check `{check}` in [verify] check; known checks: {}", case.path.display(), known_checks().join(", "))
 }
 
@@ -120,6 +125,7 @@ pub fn known_checks() -> Vec<&'static str> {
     checks.extend_from_slice(cutter_head::CHECKS);
     checks.extend_from_slice(wear::CHECKS);
     checks.extend_from_slice(rotating_frame::CHECKS);
+    checks.extend_from_slice(turbulence::CHECKS);
     checks
 }
 

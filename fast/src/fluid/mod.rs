@@ -16,7 +16,7 @@
 //!
 //! One step ([`FastFluid`], `pimple.rs`) is a pipeline over free kernels, one module per stage:
 //! [`starting_values`] (step 3), [`momentum`] (steps 4a–c), [`pressure_corrector`] (step 4d),
-//! [`diagnostics`] and [`finish_step`] (step 5); they read [`step_inputs`] and write the
+//! [`diagnostics`], [`turbulence`] and [`finish_step`] (step 5); they read [`step_inputs`] and write the
 //! [`buffers`] of the step. [`assembly`] holds the shared gradient and interpolation kernels.
 
 pub mod assembly;
@@ -31,6 +31,7 @@ pub mod pressure_corrector;
 pub mod settings;
 pub mod starting_values;
 pub mod step_inputs;
+pub mod turbulence;
 
 pub use pimple::FastFluid;
 pub use settings::{FastSettings, SolveCounts};

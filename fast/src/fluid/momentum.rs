@@ -7,6 +7,7 @@ use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::fluid::conditions::Condition;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
+use spillage_model::turbulence::Viscosity;
 
 use super::assembly::{convection_weight, directional, explicit_stress, interpolate_tensor, par_for, vec_of, Out};
 use super::buffers::{MomentumLinkCoefficients, MomentumSystem};
@@ -36,8 +37,8 @@ pub fn boundary_velocities(disc: &Discretisation, fixed_velocity: &[Vec3], veloc
 /// What the momentum matrix is assembled from.
 pub struct MomentumInputs<'a> {
     pub step: StepConstants<'a>,
-    /// Kinematic viscosity ν [m²/s].
-    pub nu: f64,
+    /// ν, or ν + ν_t of the turbulence model (as the reference's `StepInputs::viscosity`).
+    pub viscosity: Viscosity<'a>,
     /// Kinematic body force (gravity + `[numerics] body_force`) [m/s²].
     pub body_force: Vec3,
     /// The case's rotating frame, if any, and the cell centres it is evaluated at: the source
@@ -62,7 +63,8 @@ pub struct MomentumInputs<'a> {
 /// the time term, the gathered link terms, the boundary terms and the implicit under-relaxation.
 pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficients, system: &mut MomentumSystem) {
     let StepConstants { disc, time, alpha, numerics, particles } = inputs.step;
-    let (nu, body_force) = (inputs.nu, inputs.body_force);
+    let (viscosity, body_force) = (inputs.viscosity, inputs.body_force);
+    let n_internal_faces = disc.links.n_internal;
     let (rotating_frame, cell_centres) = (inputs.rotating_frame, inputs.cell_centres);
     let links = disc.links;
     let (velocity, gradient) = (inputs.velocity, inputs.velocity_gradient);
@@ -84,7 +86,7 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
                 vec_of(velocity, q),
                 |owner_upwind| gradient[if owner_upwind { p } else { q }],
             );
-            let diffusivity = nu * alpha_f;
+            let diffusivity = viscosity.face(links.weight[l], p, q) * alpha_f;
             let diffusion = diffusivity * links.laplacian[l];
             let gradient_f = interpolate_tensor(links.weight[l], &gradient[p], &gradient[q]);
             let explicit = directional(&gradient_f, &links.non_orthogonal[l]) * diffusivity + explicit_stress(&gradient_f, &links.area[l]) * diffusivity;
@@ -132,7 +134,7 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
             let b = b as usize;
             let alpha_p = alpha.current[c];
             let relative_flux = boundary_flux[b] - bnd.mesh_flux[b];
-            let diffusivity = nu * alpha_p;
+            let diffusivity = viscosity.boundary(bnd.face[b] as usize - n_internal_faces) * alpha_p;
             let diffusion = diffusivity * bnd.area[b].norm() / bnd.normal_distance[b];
             match disc.condition(b) {
                 Condition::FixedVelocity { .. } => {

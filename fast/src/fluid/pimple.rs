@@ -35,8 +35,10 @@ use super::starting_values::{
     boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels,
 };
 use super::step_inputs::{Discretisation, ParticleSources, StepConstants, StepSolution, TimeStep, VolumeFractions};
+use super::turbulence::{FastTurbulence, TurbulenceInputs};
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::reduce::Reducer;
+use spillage_model::turbulence::Viscosity;
 
 /// The fast fluid solver, a fluid phase of the step driver ([`spillage_model::step::Coupled`]).
 pub struct FastFluid {
@@ -88,6 +90,8 @@ pub struct FastFluid {
     /// Whether every link's non-orthogonal part is negligible ([`Links::all_orthogonal`]);
     /// `None` before the first step's geometry.
     orthogonal: Option<bool>,
+    /// The k–ε model (`[turbulence] model = "realizable-k-epsilon"`), `None` for laminar flow.
+    turbulence: Option<FastTurbulence>,
 }
 
 fn unsupported(msg: impl Into<String>) -> SolverError {
@@ -133,6 +137,7 @@ impl FastFluid {
         let links = Links::from_internal_faces(&mesh, rotor.as_ref(), &in_rotor);
         let boundary = Boundary::build(&mesh, &conditions, rotor.as_ref(), &in_rotor);
         let solved = solved_components(&mesh);
+        let turbulence = case.turbulence.is_k_epsilon().then(|| FastTurbulence::new(case.turbulence.clone(), conditions.wall_patch_names(&mesh)));
         let mut solver = FastFluid {
             mesh,
             fluid: FluidState::default(),
@@ -165,6 +170,7 @@ impl FastFluid {
             reducer: Reducer::default(),
             counts: SolveCounts::default(),
             orthogonal: None,
+            turbulence,
         };
         solver.rebuild_overlaps();
         solver.resize_buffers();
@@ -289,7 +295,12 @@ impl FastFluid {
             conditions: &self.conditions,
             solved: self.solved,
         };
-        let alpha = VolumeFractions::of(fluid);
+        // field by field, so that the turbulence state stays free to be updated after the loop
+        let alpha = VolumeFractions { current: &self.fluid.alpha, old: &self.fluid.alpha_old, old_old: &self.fluid.alpha_old_old };
+        let viscosity = match (&self.turbulence, &self.fluid.turbulence) {
+            (Some(_), Some(t)) => t.viscosity(self.nu),
+            _ => Viscosity::Uniform(self.nu),
+        };
         let particles = self.particles_active.then_some(&self.particle_sources);
         let step = StepConstants { disc, time, alpha, numerics: &self.numerics, particles };
         self.counts = SolveCounts::default();
@@ -304,7 +315,7 @@ impl FastFluid {
             // b. momentum matrix
             let momentum_inputs = MomentumInputs {
                 step,
-                nu: self.nu,
+                viscosity,
                 body_force: self.body_force,
                 rotating_frame: self.rotating_frame.as_ref(),
                 cell_centres: &self.mesh.cell_centres,
@@ -367,12 +378,36 @@ impl FastFluid {
             boundary_flux: &b.boundary_flux,
         };
         let diagnostics = step_diagnostics(&disc, time, alpha, solution, &mut b.diagnostics, &mut self.reducer);
+        // turbulence, once per step after the outer loop (spec §8.7 Algorithm 1 line 25), from
+        // the final velocity and fluxes, before the α levels shift
+        if let Some(model) = self.turbulence.as_mut() {
+            momentum::boundary_velocities(&disc, &b.fixed_boundary_velocity, &b.velocity, &mut b.boundary_velocity);
+            disc.vector_gradient(&b.velocity, &b.boundary_velocity, &mut b.velocity_gradient);
+            let inputs = TurbulenceInputs {
+                disc,
+                time,
+                alpha,
+                nu: self.nu,
+                velocity: &b.velocity,
+                boundary_velocity: &b.boundary_velocity,
+                velocity_gradient: &b.velocity_gradient,
+                link_flux: &b.link_flux,
+                boundary_flux: &b.boundary_flux,
+                tolerance: self.settings.momentum,
+                step: self.step_number,
+                time_end: self.step_time_end,
+            };
+            model.correct(&inputs, self.fluid.turbulence.as_mut())?;
+        }
         let fluid = &mut self.fluid;
         shift_time_levels(fluid, &self.links, &self.boundary, self.mesh.n_internal_faces, solution, &mut b.diagnostics, diagnostics.continuity_global);
         let continuity_cumulative = fluid.cumulative_continuity_error;
         self.dt_old = time.dt;
         let totals = StepTotals { continuity_cumulative, outer_iterations, p_initial_residual: last_residual };
         write_report(report, &diagnostics, &totals);
+        if let Some(model) = &self.turbulence {
+            report.values.extend_from_slice(model.values());
+        }
         Ok(FluidStepOutcome { courant_max: diagnostics.courant_max })
     }
 }

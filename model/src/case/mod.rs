@@ -53,6 +53,9 @@ pub struct Case {
     pub walls: Vec<WallSection>,
     /// Erosive wear of the walls.
     pub wear: Option<crate::wear::settings::WearSection>,
+    /// The fluid's turbulence model (laminar without the section).
+    #[serde(default)]
+    pub turbulence: crate::turbulence::TurbulenceSection,
     #[serde(default)]
     pub output: OutputSection,
     pub verify: Option<VerifySection>,
@@ -162,6 +165,10 @@ impl Case {
             fluid.validate()?;
         }
         self.numerics.validate()?;
+        self.turbulence.validate()?;
+        if self.turbulence.is_k_epsilon() && self.fluid.is_none() {
+            return Err(FieldError::new("turbulence.model", "\"realizable-k-epsilon\"", "\"laminar\" in a case without a [fluid] section"));
+        }
         if let Some(mesh) = &self.mesh {
             mesh.validate()?;
         }

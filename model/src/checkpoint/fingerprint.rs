@@ -58,6 +58,8 @@ impl Fingerprint {
             parts.push(part("particle materials", format!("materials {names:?}"), &format!("{:?}", p.materials)));
             parts.push(part("particle set", format!("{} particle groups and {} feeds", p.groups.len(), p.feed.len()), &format!("{:?}{:?}", p.groups, p.feed)));
         }
+        let turbulence = if case.turbulence.is_k_epsilon() { "the realizable k–ε model" } else { "laminar flow" };
+        parts.push(part("turbulence model", turbulence.to_string(), &format!("{:?}", case.turbulence.model)));
         let walls: Vec<&str> = case.walls.iter().map(|w| w.name.as_str()).collect();
         parts.push(part("walls", format!("walls {walls:?}"), &format!("{:?}", case.walls)));
         let frame = match &case.physics.rotating_frame {

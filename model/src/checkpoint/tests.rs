@@ -95,7 +95,7 @@ fn a_forged_payload_with_a_nan_time_is_refused_before_any_step() {
     write(&path, &case, &sample()).unwrap();
     let forged = State { time: f64::NAN, ..sample() };
     let payload = postcard::to_stdvec(&(Fingerprint::of_case(&case), &forged)).unwrap();
-    let mut bytes = b"spillage-checkpoint 4 demo\n".to_vec();
+    let mut bytes = b"spillage-checkpoint 5 demo\n".to_vec();
     bytes.extend((payload.len() as u64).to_le_bytes());
     bytes.extend(&payload);
     bytes.extend(fnv1a(&payload).to_le_bytes());
@@ -109,7 +109,7 @@ fn a_forged_payload_with_a_nan_time_is_refused_before_any_step() {
 #[test]
 fn a_damaged_header_never_prints_binary_bytes() {
     let path = tmp("binary");
-    let mut bytes = b"spillage-checkpoint 4 demo".to_vec();
+    let mut bytes = b"spillage-checkpoint 5 demo".to_vec();
     bytes.extend([0u8, 1, 2, 0xff, 0xfe, 7, 27, b'x', b'\n']);
     bytes.extend([0u8; 40]);
     std::fs::write(&path, &bytes).unwrap();
@@ -117,14 +117,14 @@ fn a_damaged_header_never_prints_binary_bytes() {
     assert!(!err.chars().any(|c| c.is_control() || c == '\u{fffd}'), "{err:?}");
     assert!(err.contains("damaged"), "{err}");
     // a name of valid text but a payload in the header line (no newline for 512 bytes)
-    let mut long = b"spillage-checkpoint 4 demo".to_vec();
+    let mut long = b"spillage-checkpoint 5 demo".to_vec();
     long.extend(std::iter::repeat_n(b'a', 2000));
     std::fs::write(&path, &long).unwrap();
     let err = read(&path, &demo()).unwrap_err().to_string();
     assert!(err.len() < 200 && err.contains("no end to its header line"), "{err}");
     // a wrong name is shown escaped and cut
     let name = format!("demo\u{7f}{}", "y".repeat(100));
-    let mut other = format!("spillage-checkpoint 4 {name}\n").into_bytes();
+    let mut other = format!("spillage-checkpoint 5 {name}\n").into_bytes();
     other.extend([0u8; 16]);
     std::fs::write(&path, &other).unwrap();
     let err = read(&path, &demo()).unwrap_err().to_string();
@@ -134,7 +134,7 @@ fn a_damaged_header_never_prints_binary_bytes() {
 #[test]
 fn an_older_version_says_rerun_from_the_start() {
     let path = tmp("old");
-    std::fs::write(&path, b"spillage-checkpoint 3 demo\n\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0").unwrap();
+    std::fs::write(&path, b"spillage-checkpoint 4 demo\n\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0").unwrap();
     let err = read(&path, &demo()).unwrap_err().to_string();
     assert!(err.contains("written by an older spillage") && err.contains("rerun the case from the start"), "{err}");
 }

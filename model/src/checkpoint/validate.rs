@@ -57,6 +57,14 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
                 return Err(format!("{name} of {what} {i} is {}: expected a finite number", values[i]));
             }
         }
+        if let Some(t) = &fluid.turbulence {
+            for (name, values) in [("turbulence k", &t.k), ("turbulence epsilon", &t.epsilon), ("turbulence nu_t", &t.nu_t)] {
+                same_size(name, values.len(), n)?;
+                if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                    return Err(format!("fluid {name} of cell {i} is {}: expected a finite number", values[i]));
+                }
+            }
+        }
         if !fluid.cumulative_continuity_error.is_finite() {
             return Err(format!("fluid cumulative_continuity_error is {}", fluid.cumulative_continuity_error));
         }

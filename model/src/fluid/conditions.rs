@@ -28,6 +28,9 @@ pub struct Conditions {
     pub patch_condition: Vec<Option<usize>>,
     /// True when some boundary fixes the pressure level (otherwise a reference cell does).
     pub has_fixed_pressure: bool,
+    /// Per condition: whether it is a `wall` (wall functions of the turbulence model apply; a
+    /// velocity inlet fixes the velocity too but brings its own k and ε).
+    pub wall: Vec<bool>,
 }
 
 impl Conditions {
@@ -37,6 +40,7 @@ impl Conditions {
         let mut conditions = Vec::new();
         let mut patch_condition = Vec::new();
         let mut has_fixed_pressure = false;
+        let mut wall = Vec::new();
         for patch in &mesh.patches {
             match patch.kind {
                 PatchKind::Empty | PatchKind::Interface { .. } => {
@@ -73,8 +77,23 @@ impl Conditions {
             };
             patch_condition.push(Some(conditions.len()));
             conditions.push(condition);
+            wall.push(matches!(bc, BoundaryCondition::Wall { .. }));
         }
-        Ok(Conditions { conditions, patch_condition, has_fixed_pressure })
+        Ok(Conditions { conditions, patch_condition, has_fixed_pressure, wall })
+    }
+
+    /// Per condition: the mesh patch name of a wall condition (the y⁺ diagnostics of the
+    /// turbulence model), `None` for other conditions.
+    pub fn wall_patch_names(&self, mesh: &Mesh) -> Vec<Option<String>> {
+        let mut names = vec![None; self.conditions.len()];
+        for (patch, condition) in mesh.patches.iter().zip(&self.patch_condition) {
+            if let Some(c) = condition {
+                if self.wall[*c] {
+                    names[*c] = Some(patch.name.clone());
+                }
+            }
+        }
+        names
     }
 
     /// Fixed velocity at a boundary face centre, if `condition` fixes one. `rotor_velocity` is

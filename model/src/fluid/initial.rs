@@ -27,14 +27,28 @@ pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
         state.flux[face] = u.dot(&mesh.face_areas[face]);
     }
     state.flux_old = state.flux.clone();
+    state.turbulence = initial_turbulence(case, mesh);
     state
+}
+
+/// Uniform `[turbulence] initial_k` and `initial_epsilon` for a k–ε case, `None` for a laminar one.
+fn initial_turbulence(case: &Case, mesh: &Mesh) -> Option<crate::turbulence::TurbulenceState> {
+    let t = &case.turbulence;
+    t.is_k_epsilon().then(|| {
+        crate::turbulence::TurbulenceState::uniform(mesh.n_cells(), mesh.n_faces() - mesh.n_internal_faces, t.initial_k, t.initial_epsilon, t.constants.c_mu)
+    })
 }
 
 /// The fluid state of `state` ready for a run on `mesh`: the initial state when there is none,
 /// the old flux filled in for checkpoints written before it was stored, and the sizes checked
-/// against the mesh (a checkpoint of another mesh is refused).
+/// against the mesh (a checkpoint of another mesh is refused). A k–ε case continuing a laminar
+/// checkpoint starts its turbulence from the initial k and ε (spin-up laminar, then turbulent);
+/// a laminar case drops the turbulence of a k–ε checkpoint.
 pub fn prepare_fluid_state(state: &mut crate::state::State, case: &Case, mesh: &Mesh) -> Result<(), String> {
     let fluid = state.fluid.get_or_insert_with(|| initial_fluid_state(case, mesh));
     fluid.fill_missing_old_flux(mesh);
+    if case.turbulence.is_k_epsilon() != fluid.turbulence.is_some() {
+        fluid.turbulence = initial_turbulence(case, mesh);
+    }
     fluid.check_matches(mesh)
 }

@@ -27,6 +27,8 @@ pub struct FluidState {
     pub alpha_old_old: Vec<f64>,
     /// Σ over steps of the global continuity error [m³] (spec U-31).
     pub cumulative_continuity_error: f64,
+    /// k, ε and ν_t of the turbulence model (`[turbulence] model = "realizable-k-epsilon"`).
+    pub turbulence: Option<crate::turbulence::TurbulenceState>,
 }
 
 impl FluidState {
@@ -43,6 +45,7 @@ impl FluidState {
             alpha_old: vec![1.0; n_cells],
             alpha_old_old: vec![1.0; n_cells],
             cumulative_continuity_error: 0.0,
+            turbulence: None,
         }
     }
 
@@ -59,10 +62,12 @@ impl FluidState {
             && self.flux.len() == nf
             && self.flux_old.len() == nf
             && self.boundary_pressure.len() == nf - mesh.n_internal_faces;
-        if ok {
-            Ok(())
-        } else {
-            Err(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)"))
+        if !ok {
+            return Err(format!("the fluid state does not match the mesh ({n} cells, {nf} faces)"));
+        }
+        match &self.turbulence {
+            Some(t) => t.check_matches(n, nf - mesh.n_internal_faces),
+            None => Ok(()),
         }
     }
 

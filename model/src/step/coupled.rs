@@ -478,6 +478,13 @@ fn non_finite_fluid(mesh: &Mesh, fluid: &crate::fluid::state::FluidState) -> Opt
             return Some(cell(field, i, values[i].to_string()));
         }
     }
+    if let Some(t) = &fluid.turbulence {
+        for (field, values) in [("turbulent kinetic energy k", &t.k), ("dissipation rate ε", &t.epsilon), ("turbulent viscosity ν_t", &t.nu_t)] {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Some(cell(field, i, values[i].to_string()));
+            }
+        }
+    }
     let i = fluid.flux.iter().position(|v| !v.is_finite())?;
     let c = mesh.face_centres.get(i).map_or(String::new(), |c| format!(" at [{:e}, {:e}, {:e}] m", c.x, c.y, c.z));
     Some(format!("the fluid flux of face {i}{c} is {}", fluid.flux[i]))

@@ -99,5 +99,6 @@ pub mod momentum;
 pub mod pressure;
 pub mod schemes;
 mod solver;
+pub mod turbulence;
 
 pub use solver::ReferenceFluid;

@@ -2,7 +2,10 @@
 //! cell, units m⁴/s² per component, coefficients m³/s):
 //!
 //!   [c₀ αⁿu V + c₁ αᵒuᵒ V + c₂ αᵒᵒuᵒᵒ V]/Δt + Σ_f α_f u_f (φ_f − φ_mesh,f)
-//!     = Σ_f (αν)_f (∇u)_f·S_f + Σ_f (αν)_f [(∇u)_fᵀ − ⅔ tr(∇u)_f I]·S_f + g V − V ∇P.
+//!     = Σ_f (αν)_f (∇u)_f·S_f + Σ_f (αν)_f [(∇u)_fᵀ − ⅔ tr(∇u)_f I]·S_f + g V − V ∇P,
+//!
+//! with ν the effective viscosity ν + ν_t of a turbulence model (spec §2.5, §3.1, T3.8–T3.9;
+//! the isotropic −⅔ρk I part of the Reynolds stress is absorbed in the pressure, as OpenFOAM).
 //!
 //! With particles (spec §8.4, §8.5) the cell load adds +C_j/ρ to the diagonal (the implicit
 //! drag −C_j u_j, sign corrected) and F_j/ρ to the source (the explicit particle force).
@@ -27,6 +30,7 @@ use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
+use spillage_model::turbulence::Viscosity;
 
 use super::boundary::{Condition, Conditions};
 use super::geometry::{Geometry, RotorMotion};
@@ -41,7 +45,9 @@ pub struct StepInputs<'a> {
     pub rotor: Option<&'a RotorMotion>,
     pub numerics: &'a NumericsSection,
     pub volumes: &'a [f64],
-    pub nu: f64,
+    /// ν, or ν + ν_t of the turbulence model (faces: ν_t linearly interpolated; boundary
+    /// faces: the wall-function ν_t,w on walls).
+    pub viscosity: Viscosity<'a>,
     pub dt: f64,
     /// BDF coefficients (c₀, c₁, c₂) of d/dt ≈ (c₀ qⁿ + c₁ qᵒ + c₂ qᵒᵒ)/Δt.
     pub time_coefficients: [f64; 3],
@@ -149,7 +155,7 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         m.add_off_diagonal(nb, p, -alpha_f * f * lambda);
 
         // diffusion: implicit orthogonal part + explicit non-orthogonal correction
-        let gamma = inputs.nu * alpha_f;
+        let gamma = inputs.viscosity.face(link.weight, p, nb) * alpha_f;
         let d = gamma * link.laplacian_coefficient();
         m.add_diagonal(p, d);
         m.add_diagonal(nb, d);
@@ -169,7 +175,7 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         let p = face.cell;
         let alpha_p = inputs.alpha[p];
         let f = boundary_flux[b] - face.mesh_flux;
-        let gamma = inputs.nu * alpha_p;
+        let gamma = inputs.viscosity.boundary(face.index) * alpha_p;
         let d = gamma * face.area.norm() / face.normal_distance;
         match &inputs.conditions.conditions[face.patch] {
             Condition::FixedVelocity { .. } => {

@@ -19,6 +19,7 @@ use super::gradient::vector_gradient;
 use super::interface::interface_links;
 use super::momentum::{self, StepInputs};
 use super::pressure::{self, CorrectorFields};
+use super::turbulence::{self, TurbulenceInputs, TurbulenceModel};
 
 /// The reference fluid solver, a fluid phase of the step driver
 /// ([`spillage_model::step::Coupled`]): volume-averaged, with α_c from the state and the
@@ -38,6 +39,8 @@ pub struct ReferenceFluid {
     interface_axis: Option<(Vec3, Vec3)>,
     /// Δt of the last step (sampling's local acceleration).
     dt_old: f64,
+    /// `[turbulence] model`: the effective viscosity and its transport equations.
+    turbulence: Box<dyn TurbulenceModel>,
 }
 
 impl ReferenceFluid {
@@ -54,6 +57,7 @@ impl ReferenceFluid {
         let rotor = RotorMotion::from_case(case, &mesh).map_err(SolverError::Unsupported)?;
 
         prepare_fluid_state(state, case, &mesh).map_err(SolverError::Unsupported)?;
+        let turbulence = turbulence::from_case(&case.turbulence, conditions.wall_patch_names(&mesh));
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
@@ -65,6 +69,7 @@ impl ReferenceFluid {
             rotor,
             interface_axis,
             dt_old: state.dt,
+            turbulence,
         };
         solver.place_rotor(RotorPose::from_case(case, state.rotor_angle).as_ref())?;
         Ok(solver)
@@ -133,7 +138,7 @@ impl ReferenceFluid {
             rotor: self.rotor.as_ref(),
             numerics: &self.numerics,
             volumes: &volumes,
-            nu: self.nu,
+            viscosity: self.turbulence.viscosity(fluid, self.nu),
             dt,
             time_coefficients,
             alpha: &fluid.alpha,
@@ -222,6 +227,8 @@ impl ReferenceFluid {
         let imbalance = diagnostics::interface_imbalance(&geo, &link_flux, self.mesh.face_areas.len());
         let alpha = fluid.alpha.clone();
         let kinetic = diagnostics::kinetic_energy(&u, &alpha, &volumes);
+        let boundary_u = momentum::boundary_velocities(&inputs, &u);
+        let alpha_before = fluid.alpha_old.clone();
 
         // step 5: shift the time levels
         let n_faces = self.mesh.face_areas.len();
@@ -261,6 +268,24 @@ impl ReferenceFluid {
             ("p_initial_residual", last_residual),
             ("interface_imbalance", imbalance),
         ]);
+
+        // turbulence, once per step after the outer loop (spec §8.7 Algorithm 1 line 25)
+        let turbulence_inputs = TurbulenceInputs {
+            geo: &geo,
+            conditions: &self.conditions,
+            volumes: &volumes,
+            nu: self.nu,
+            dt,
+            alpha: &alpha,
+            alpha_old: &alpha_before,
+            u: &u,
+            boundary_u: &boundary_u,
+            link_flux: &link_flux,
+            boundary_flux: &boundary_flux,
+            step: ctx.step,
+            time: ctx.time_end(),
+        };
+        self.turbulence.correct(&turbulence_inputs, fluid, &mut report.values)?;
         Ok(FluidStepOutcome { courant_max: courant })
     }
 }
