@@ -167,56 +167,94 @@ fn smallest_graded_cell(len: f64, n: usize, grading: f64) -> f64 {
 }
 
 pub fn check(path: &Path) -> anyhow::Result<ExitCode> {
-    let case = Case::load(path)?;
-    let d = derive(&case);
-    println!("case         {} ({})", case.case.name, path.display());
-    if !case.case.description.is_empty() {
-        println!("             {}", case.case.description);
-    }
-    if case.mesh.is_some() || case.cutter_head.is_some() {
-        println!("cells        {}", d.cells);
-    }
-    for line in head_lines(&case) {
+    let bytes = std::fs::read(path).map_err(|e| anyhow::anyhow!("{}: cannot read the case file: {e}", path.display()))?;
+    let report = inspect(&bytes, path)?;
+    for line in &report.lines {
         println!("{line}");
     }
-    if let Some(h) = d.min_cell_size {
-        println!("min cell     {h:.4e} m");
-    }
-    if let Some(u) = d.velocity_scale {
-        println!("velocity     {u:.4e} m/s (largest imposed)");
-    }
-    if let Some(co) = d.courant_estimate {
-        let note = if co > 1.0 { "  (above 1: stable with the implicit solver, but time accuracy suffers)" } else { "" };
-        println!("Courant      {co:.4} (estimate from the imposed velocity){note}");
-    }
-    if let Some(re) = d.reynolds {
-        println!("Reynolds     {re:.4e}");
-    }
-    match (case.time.dt, case.time.steps, case.time.end_time) {
-        (Some(dt), Some(n), _) => println!("time         {n} steps of {dt:e} s = {:.4e} s", dt * n as f64),
-        (Some(dt), None, Some(t)) => println!("time         {} steps of {dt:e} s to t = {t:e} s", (t / dt).ceil()),
-        (None, _, Some(t)) if case.time.revolutions.is_some() => println!(
-            "time         {} revolutions = {t:.4e} s, Δt from max Courant number {}",
-            case.time.revolutions.unwrap_or(0.0),
-            case.time.max_courant.unwrap_or(f64::NAN)
-        ),
-        (None, _, _) => println!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN)),
-        _ => {}
-    }
-    for line in turbulence_lines(&case, &d) {
-        println!("{line}");
-    }
-    for line in particle_lines(&case) {
-        println!("{line}");
-    }
-    for line in wear_lines(&case) {
-        println!("{line}");
-    }
-    if case.mesh.is_some() || case.cutter_head.is_some() {
-        println!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6);
+    for warning in &report.warnings {
+        eprintln!("warning: {warning}");
     }
     println!("ok: the case is valid");
     Ok(ExitCode::SUCCESS)
+}
+
+/// What `spillage check` finds in a case file's bytes: the validated case's derived numbers
+/// and its warnings, or the first error (located in the file, naming the key).
+#[derive(Debug)]
+pub struct Report {
+    pub case: Case,
+    pub lines: Vec<String>,
+    /// Values that are allowed but unusual (printed after the numbers).
+    pub warnings: Vec<String>,
+}
+
+/// `spillage check` without printing: the path is used in messages only.
+pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case::CaseError> {
+    let case = Case::from_bytes(bytes, path)?;
+    let d = derive(&case);
+    let mut lines = Vec::new();
+    let placement = spillage_model::particles::placement::check_initial_placement(&case, path.parent().unwrap_or(Path::new("")))
+        .map_err(|field| Case::located(&String::from_utf8_lossy(bytes), path, field))?;
+    let mut push = |line: String| lines.push(line);
+
+    push(format!("case         {} ({})", case.case.name, path.display()));
+    if !case.case.description.is_empty() {
+        push(format!("             {}", case.case.description));
+    }
+    if case.mesh.is_some() || case.cutter_head.is_some() {
+        push(format!("cells        {}", d.cells));
+    }
+    for line in head_lines(&case) {
+        push(line);
+    }
+    if let Some(h) = d.min_cell_size {
+        push(format!("min cell     {h:.4e} m"));
+    }
+    if let Some(u) = d.velocity_scale {
+        push(format!("velocity     {u:.4e} m/s (largest imposed)"));
+    }
+    if let Some(co) = d.courant_estimate {
+        let note = if co > 1.0 { "  (above 1: stable with the implicit solver, but time accuracy suffers)" } else { "" };
+        push(format!("Courant      {co:.4} (estimate from the imposed velocity){note}"));
+    }
+    if let Some(re) = d.reynolds {
+        push(format!("Reynolds     {re:.4e}"));
+    }
+    match (case.time.dt, case.time.steps, case.time.end_time) {
+        (Some(dt), Some(n), _) => push(format!("time         {n} steps of {dt:e} s = {:.4e} s", dt * n as f64)),
+        (Some(dt), None, Some(t)) => push(format!("time         {} steps of {dt:e} s to t = {t:e} s", (t / dt).ceil())),
+        (None, _, Some(t)) if case.time.revolutions.is_some() => push(format!(
+            "time         {} revolutions = {t:.4e} s, Δt from max Courant number {}",
+            case.time.revolutions.unwrap_or(0.0),
+            case.time.max_courant.unwrap_or(f64::NAN)
+        )),
+        (None, _, _) => push(format!("time         Δt from max Courant number {}", case.time.max_courant.unwrap_or(f64::NAN))),
+        _ => {}
+    }
+    for line in turbulence_lines(&case, &d) {
+        push(line);
+    }
+    for line in particle_lines(&case) {
+        push(line);
+    }
+    for line in wear_lines(&case) {
+        push(line);
+    }
+    if case.mesh.is_some() || case.cutter_head.is_some() {
+        push(format!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6));
+    }
+    match placement {
+        Some(0) => {}
+        Some(n) => push(format!("placement    {n} initial particles clear of the walls and of each other")),
+        None => push(format!(
+            "placement    not checked: about {:.0} initial particles (more than {})",
+            spillage_model::particles::placement::estimated_count(&case),
+            spillage_model::particles::placement::CHECKED_MAX
+        )),
+    }
+    let warnings = spillage_model::case::unusual::warnings(&case);
+    Ok(Report { case, lines, warnings })
 }
 
 /// DEM sub-step and Stokes numbers, from the smallest and largest particles the case makes.

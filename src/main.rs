@@ -1,7 +1,6 @@
 //! `spillage`: the command-line program. Thin: parses, calls the library crates, reports.
 
 mod analytic_cmd;
-mod check;
 mod frames;
 mod head_report;
 mod progress;
@@ -12,6 +11,8 @@ mod verify_cmd;
 mod wear_report;
 
 use std::path::PathBuf;
+
+use spillage::check;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};

@@ -89,9 +89,17 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set up the thread pool")?;
     let restart = match &opts.restart {
-        Some(path) => Some(spillage_model::checkpoint::read(path, Some(&case.case.name))?),
+        Some(path) => Some(spillage_model::checkpoint::read(path, &case)?),
         None => None,
     };
+    if restart.is_none() {
+        // initial particles overlapping a wall or each other blow up in the first step
+        let dir = opts.case.parent().unwrap_or(Path::new(""));
+        spillage_model::particles::placement::check_initial_placement(&case, dir).map_err(|field| {
+            let text = std::fs::read_to_string(&opts.case).unwrap_or_default();
+            Case::located(&text, &opts.case, field)
+        })?;
+    }
     let default = Path::new("results").join(&case.case.name);
     let out = crate::results_folder::prepare(opts.out.as_deref(), &default, restart.as_ref().map(|s| s.step), opts.force)?;
     let restart_time = restart.as_ref().map(|s| s.time);
@@ -101,7 +109,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let mut summary = Summary::new(&case.case.name, solver.name());
     summary.set_detail("case_file", case.path.display().to_string());
     summary.set_detail("threads", threads as u64);
-    summary.set_detail("derived", serde_json::to_value(crate::check::derive(&case))?);
+    summary.set_detail("derived", serde_json::to_value(spillage::check::derive(&case))?);
     if let Some(path) = &opts.restart {
         summary.set_detail("restarted_from", path.display().to_string());
     }
@@ -299,7 +307,7 @@ impl Running<'_> {
 
     fn checkpoint(&self, state: &State) -> anyhow::Result<()> {
         let path = self.out.join("checkpoints").join(format!("step_{:08}.ckpt", state.step));
-        spillage_model::checkpoint::write(&path, &self.case.case.name, state)?;
+        spillage_model::checkpoint::write(&path, self.case, state)?;
         Ok(())
     }
 }

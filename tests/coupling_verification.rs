@@ -172,8 +172,8 @@ fn a_coupled_run_restarts_bit_for_bit() {
         straight.step().unwrap();
     }
     let path = std::env::temp_dir().join(format!("spillage-coupled-restart-{}.ckpt", std::process::id()));
-    spillage_model::checkpoint::write(&path, &case.case.name, straight.state()).unwrap();
-    let read = spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap();
+    spillage_model::checkpoint::write(&path, &case, straight.state()).unwrap();
+    let read = spillage_model::checkpoint::read(&path, &case).unwrap();
     assert!(&read == straight.state(), "the checkpoint reads back the state");
     let mut restarted = build(Some(read));
     assert!(restarted.state() == straight.state(), "{}", spillage_model::state_diff::diff(straight.state(), restarted.state()).report());

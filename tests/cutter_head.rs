@@ -138,8 +138,8 @@ fn a_head_run_restarts_bit_for_bit() {
         straight.step().unwrap();
     }
     let path = std::env::temp_dir().join(format!("spillage-head-restart-{}.ckpt", std::process::id()));
-    spillage_model::checkpoint::write(&path, &case.case.name, straight.state()).unwrap();
-    let read = spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap();
+    spillage_model::checkpoint::write(&path, &case, straight.state()).unwrap();
+    let read = spillage_model::checkpoint::read(&path, &case).unwrap();
     std::fs::remove_file(&path).ok();
     let mut restarted = coupled(&case, Some(read), make);
     for step in 7..=12 {

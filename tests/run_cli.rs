@@ -358,6 +358,29 @@ fn restarting_from_a_foreign_or_damaged_checkpoint_is_refused() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("not a spillage checkpoint"));
 }
 
+/// Issue 14 item 2: a DEM checkpoint ran as a fluid case of the same name (and the other way
+/// round); now the run stops before any step, naming the phase that differs.
+#[test]
+fn a_checkpoint_of_another_phase_is_refused_before_any_step() {
+    let dir = scratch("other_phase");
+    let particles = particle_case(&dir, 2);
+    let fluid = fluid_case(&dir, 3);
+    // the fluid case under the particle case's name
+    let text = std::fs::read_to_string(&fluid).unwrap().replace("name = \"small_rotor\"", "name = \"small_pour\"");
+    std::fs::write(&fluid, text).unwrap();
+    let (p_out, f_out) = (dir.join("p"), dir.join("f"));
+    run_ok(&["run", particles.to_str().unwrap(), "--out", p_out.to_str().unwrap()]);
+    run_ok(&["run", fluid.to_str().unwrap(), "--out", f_out.to_str().unwrap()]);
+    let cases = [(&fluid, p_out.join("checkpoints/step_00000002.ckpt"), "particle"), (&particles, f_out.join("checkpoints/step_00000003.ckpt"), "fluid")];
+    for (case, ckpt, phase) in cases {
+        let out = spillage(&["run", case.to_str().unwrap(), "--restart", ckpt.to_str().unwrap(), "--out", dir.join("again").to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(&format!("the checkpoint has a {phase} phase but the case has none")), "{err}");
+        assert!(!dir.join("again/series.csv").exists(), "a step was taken: {err}");
+    }
+}
+
 #[test]
 fn check_prints_the_derived_numbers() {
     let dir = scratch("check");

@@ -262,8 +262,8 @@ fn restarts_continue_bit_for_bit() {
             assert!(straight.state().rotor_angle > 0.0 && !p.contacts.is_empty() && p.counts.created > 0, "{label}: the checkpoint holds no live history");
         }
         let path = dir.join(format!("{label}.ckpt"));
-        spillage_model::checkpoint::write(&path, &case.case.name, straight.state()).unwrap();
-        let mut restarted = build(Some(spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap()));
+        spillage_model::checkpoint::write(&path, &case, straight.state()).unwrap();
+        let mut restarted = build(Some(spillage_model::checkpoint::read(&path, &case).unwrap()));
         for step in split + 1..=2 * split {
             let a = straight.step().unwrap();
             let b = restarted.step().unwrap();

@@ -207,8 +207,8 @@ fn restart_continues_bit_for_bit() {
     let dir = std::env::temp_dir().join(format!("spillage-turbulence-restart-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("step_10.ckpt");
-    spillage_model::checkpoint::write(&path, &c.case.name, &half).unwrap();
-    let restored = spillage_model::checkpoint::read(&path, Some(&c.case.name)).unwrap();
+    spillage_model::checkpoint::write(&path, &c, &half).unwrap();
+    let restored = spillage_model::checkpoint::read(&path, &c).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     assert!(restored.fluid.as_ref().unwrap().turbulence.is_some(), "the checkpoint lost the turbulence state");
     let resumed = run(restored, 10);

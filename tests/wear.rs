@@ -71,8 +71,8 @@ fn a_restart_with_worn_walls_continues_bit_for_bit() {
     let wear = first.state().wear.as_ref().unwrap();
     assert!(wear.walls[0].receded > 0.0, "the plate must have receded before the checkpoint");
     let path = std::env::temp_dir().join(format!("spillage-wear-restart-{}.chk", std::process::id()));
-    spillage_model::checkpoint::write(&path, &case.case.name, first.state()).unwrap();
-    let restored = spillage_model::checkpoint::read(&path, Some(&case.case.name)).unwrap();
+    spillage_model::checkpoint::write(&path, &case, first.state()).unwrap();
+    let restored = spillage_model::checkpoint::read(&path, &case).unwrap();
     std::fs::remove_file(&path).ok();
     let mut second = run(&case, restored);
     for _ in 0..15 {

@@ -62,3 +62,42 @@ pub fn key_at(text: &str, offset: usize) -> Option<String> {
     let mut path = Vec::new();
     walk(&DeValue::Table(root.into_inner()), offset, &mut path).then(|| path.join("."))
 }
+
+/// Dotted key path of what line `line` (1-based) sets, read from the text alone (for files the
+/// TOML parser refuses): the last `[table]` or `[[array]]` header above it (an array's entry
+/// numbered from 0) and the `key =` on it, the header itself on a header line, the enclosing
+/// table on a comment or blank line; `None` before any key or table.
+pub fn key_of_line(text: &str, line: usize) -> Option<String> {
+    let mut table: Option<String> = None;
+    let mut arrays: std::collections::BTreeMap<String, usize> = std::collections::BTreeMap::new();
+    let dotted = |s: &str| s.split('.').map(|p| p.trim().trim_matches('"')).collect::<Vec<_>>().join(".");
+    for (i, raw) in text.lines().enumerate() {
+        let trimmed = raw.trim();
+        if let Some(header) = trimmed.strip_prefix('[') {
+            let array = header.starts_with('[');
+            let header = header.trim_start_matches('[');
+            let name = dotted(&header[..header.find(']').unwrap_or(header.len())]);
+            table = Some(if array {
+                let n = arrays.entry(name.clone()).and_modify(|n| *n += 1).or_insert(0);
+                format!("{name}.{n}")
+            } else {
+                name
+            });
+            if i + 1 == line {
+                return table;
+            }
+            continue;
+        }
+        if i + 1 == line {
+            if trimmed.is_empty() || trimmed.starts_with('#') {
+                return table;
+            }
+            let key = trimmed.split('=').next().unwrap_or("").split_whitespace().next().map(dotted).filter(|k| !k.is_empty());
+            return match (table, key) {
+                (Some(t), Some(k)) => Some(format!("{t}.{k}")),
+                (t, k) => k.or(t),
+            };
+        }
+    }
+    table
+}

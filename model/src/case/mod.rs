@@ -6,9 +6,12 @@
 //! [`locate`] maps back to a line and column of the file.
 
 pub mod error;
+pub mod limits;
 pub mod locate;
 pub mod mesh_section;
+pub mod parse_error;
 pub mod sections;
+pub mod unusual;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -71,32 +74,43 @@ pub struct Case {
 impl Case {
     /// Reads and validates a case file.
     pub fn load(path: &Path) -> Result<Case, CaseError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CaseError { file: path.to_path_buf(), line: None, column: None, kind: CaseErrorKind::Io(e) })?;
-        Case::from_toml(&text, path)
+        let bytes = std::fs::read(path).map_err(|e| CaseError { file: path.to_path_buf(), line: None, column: None, kind: CaseErrorKind::Io(e) })?;
+        Case::from_bytes(&bytes, path)
+    }
+
+    /// Parses and validates the bytes of a case file; a file that is not UTF-8 text is refused
+    /// at its first bad byte (offset, line, column and the key on that line).
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Case, CaseError> {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => Case::from_toml(text, path),
+            Err(e) => {
+                let offset = e.valid_up_to();
+                let valid = std::str::from_utf8(&bytes[..offset]).expect("valid up to here");
+                let (line, column) = locate::line_column(valid, offset);
+                let key = locate::key_of_line(&String::from_utf8_lossy(bytes), line)
+                    .map_or("before any key: ".to_string(), |k| format!("key `{}`: ", k.escape_debug()));
+                let message = format!("{key}byte {offset} (0x{:02x}) is not UTF-8 text; a case file is UTF-8 text", bytes[offset]);
+                Err(CaseError { file: path.to_path_buf(), line: Some(line), column: Some(column), kind: CaseErrorKind::Parse(message) })
+            }
+        }
     }
 
     /// Parses and validates case text; `path` is used in messages only.
     pub fn from_toml(text: &str, path: &Path) -> Result<Case, CaseError> {
         let mut case: Case = toml::from_str(text).map_err(|e| {
-            let (mut line, mut column, mut message) = (None, None, e.message().trim().to_string());
-            if let Some(span) = e.span() {
-                let (l, c) = locate::line_column(text, span.start);
-                (line, column) = (Some(l), Some(c));
-                if let Some(key) = locate::key_at(text, span.start).filter(|k| !message.contains(k.as_str())) {
-                    message = format!("key `{key}`: {message}");
-                }
-            }
-            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Parse(message) }
+            let (line, column, message) = parse_error::locate(text, e.span(), e.message());
+            CaseError { file: path.to_path_buf(), line: Some(line), column: Some(column), kind: CaseErrorKind::Parse(message) }
         })?;
         case.path = path.to_path_buf();
-        case.finish().map_err(|field| {
-            let (line, column) = match locate::key_position(text, &field.key) {
-                Some((l, c)) => (Some(l), Some(c)),
-                None => (None, None),
-            };
-            CaseError { file: path.to_path_buf(), line, column, kind: CaseErrorKind::Invalid(field) }
-        })?;
+        case.finish().map_err(|field| Case::located(text, path, field))?;
         Ok(case)
+    }
+
+    /// A validation error of the case read from `text` at `path`, located at its key.
+    pub fn located(text: &str, path: &Path, field: FieldError) -> CaseError {
+        // a key of a missing section has no place in the file: the file's start
+        let (line, column) = locate::key_position(text, &field.key).unwrap_or((1, 1));
+        CaseError { file: path.to_path_buf(), line: Some(line), column: Some(column), kind: CaseErrorKind::Invalid(field) }
     }
 
     /// Validates the case and derives what follows from it (a cutter head's floor and suction
@@ -290,7 +304,7 @@ impl Case {
             let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).chain(head_walls.iter().map(|n| n.as_str())).collect();
             wear.validate(&names)?;
         }
-        Ok(())
+        limits::check(self)
     }
 }
 

@@ -10,6 +10,13 @@ const PLACEMENT_ATTEMPTS: usize = 10_000;
 
 /// The particles at t = 0, ids 0, 1, 2… in group order.
 pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
+    initial_state_by_group(case).map(|(state, _)| state)
+}
+
+/// [`initial_state`] and, per group, the end of its particles in the list (group g made
+/// particles `ends[g - 1]..ends[g]`).
+pub fn initial_state_by_group(case: &Case) -> Result<(ParticleState, Vec<usize>), FieldError> {
+    let mut ends = Vec::new();
     let Some(section) = &case.particles else {
         return Err(FieldError::new("particles", "(missing)", "a [particles] section"));
     };
@@ -28,9 +35,10 @@ pub fn initial_state(case: &Case) -> Result<ParticleState, FieldError> {
         } else {
             add_group(section, group, &key, &mut state)?;
         }
+        ends.push(state.particles.len());
     }
     state.counts = ParticleCounts { created: state.particles.len() as u64, impacts: 0 };
-    Ok(state)
+    Ok((state, ends))
 }
 
 fn draw_diameter(diameter: &Diameter, random: &mut SplitMix64) -> f64 {

@@ -3,6 +3,7 @@
 
 pub mod bookkeeping;
 pub mod initial;
+pub mod placement;
 pub mod random;
 pub mod settings;
 pub mod state;

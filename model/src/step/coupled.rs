@@ -292,8 +292,14 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                     )));
                 }
             }
-            if let Some(p) = particles.particles.iter().find(|p| !(p.position.iter().chain(p.velocity.iter()).all(|v| v.is_finite()))) {
-                return Err(diverged(format!("particle {} has a non-finite position or velocity", p.id)));
+            if let Some(p) = particles.particles.iter().find(|p| !(p.position.iter().chain(p.velocity.iter()).chain(p.spin.iter()).all(|v| v.is_finite()))) {
+                return Err(diverged(format!(
+                    "particle {} has a non-finite value: position {:?} m, velocity {:?} m/s, spin {:?} rad/s",
+                    p.id,
+                    p.position.as_slice(),
+                    p.velocity.as_slice(),
+                    p.spin.as_slice()
+                )));
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
             let closed = &self.closed_patches;
@@ -370,6 +376,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         // 7. the fluid, with the particle load of this step
         if let Some(phase) = self.fluid.as_mut() {
             let fluid = self.state.fluid.as_mut().expect("checked in new");
+            if let Some(what) = non_finite_fluid(phase.mesh(), fluid) {
+                return Err(diverged(format!("{what}, before the fluid step")));
+            }
             let cells = self.mapping.as_ref().and(self.cell_load.as_ref());
             // a failed solve says where in the run it failed
             let outcome = phase.advance(&ctx, fluid, cells, report).map_err(|e| match e {
@@ -378,6 +387,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             })?;
             if !outcome.courant_max.is_finite() {
                 return Err(diverged(format!("Courant number {}", outcome.courant_max)));
+            }
+            if let Some(what) = non_finite_fluid(phase.mesh(), fluid) {
+                return Err(diverged(what));
             }
             self.state.courant = outcome.courant_max;
             if let Some((head, faces)) = &self.head {
@@ -449,6 +461,33 @@ pub fn check_state_matches_case(case: &Case, state: &State) -> Result<(), Solver
         )));
     }
     Ok(())
+}
+
+/// The first non-finite value of the fluid's fields, naming the field and the cell (or face)
+/// with its centre; one pass over the fields, no allocation.
+fn non_finite_fluid(mesh: &Mesh, fluid: &crate::fluid::state::FluidState) -> Option<String> {
+    let cell = |field: &str, i: usize, value: String| {
+        let c = mesh.cell_centres.get(i).map_or(String::new(), |c| format!(" at [{:e}, {:e}, {:e}] m", c.x, c.y, c.z));
+        format!("the fluid {field} of cell {i}{c} is {value}")
+    };
+    if let Some(i) = fluid.velocity.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+        return Some(cell("velocity", i, format!("{:?}", fluid.velocity[i])));
+    }
+    for (field, values) in [("pressure", &fluid.pressure), ("volume fraction", &fluid.alpha)] {
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Some(cell(field, i, values[i].to_string()));
+        }
+    }
+    if let Some(t) = &fluid.turbulence {
+        for (field, values) in [("turbulent kinetic energy k", &t.k), ("dissipation rate ε", &t.epsilon), ("turbulent viscosity ν_t", &t.nu_t)] {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Some(cell(field, i, values[i].to_string()));
+            }
+        }
+    }
+    let i = fluid.flux.iter().position(|v| !v.is_finite())?;
+    let c = mesh.face_centres.get(i).map_or(String::new(), |c| format!(" at [{:e}, {:e}, {:e}] m", c.x, c.y, c.z));
+    Some(format!("the fluid flux of face {i}{c} is {}", fluid.flux[i]))
 }
 
 /// The median of `values` (the mean of the middle two for an even count); `values` not empty.
