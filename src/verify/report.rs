@@ -411,7 +411,7 @@ pub fn write(dir: &Path, results: &mut [CaseResult], full: bool) -> Result<PathB
 /// The equivalence bars: each case's largest per-step difference (log scale) against the 1e-8
 /// bound; a case whose fields agree to the last bit gets a stub at the axis floor.
 fn draw_equivalence(dir: &Path, bars: &[(String, f64)]) -> Result<()> {
-    use spillage_model::output::plot::{write_bar_chart_png, Bar};
+    use spillage_model::output::bar_chart::{write_bar_chart_png, Bar};
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let smallest = bars.iter().map(|b| b.1).filter(|v| *v > 0.0).fold(equivalence::TOLERANCE, f64::min);
     let floor = 10f64.powf(smallest.log10().floor() - 1.0);

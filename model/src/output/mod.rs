@@ -5,6 +5,7 @@
 //! a NaN in a result file is a bug that must surface where it is produced.
 
 mod atomic_file;
+pub mod bar_chart;
 mod number_format;
 pub mod plot;
 pub mod series;

@@ -50,7 +50,7 @@ pub const HEIGHT: u32 = 700;
 const DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// Distinct colours (the "tab10" palette), cycled when there are more series.
-const PALETTE: [RGBColor; 10] = [
+pub(crate) const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -82,142 +82,40 @@ pub fn write_png_styled(plot: &Plot, styles: &[Style], path: &Path) -> Result<()
     let y_range = axis_range(path, plot, Axis::Y)?;
     register_embedded_font().map_err(|e| OutputError::invalid(path, e))?;
 
-    let temporary = temporary_sibling(path);
     // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
     let resolution = |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
     let resolutions = (resolution(plot.log_x, x_range), resolution(plot.log_y, y_range));
     let legend = legend_corner(plot, x_range, y_range);
-    let drawn = {
-        let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
+    render_png(path, "the plot", |root| {
         let (x0, x1) = x_range;
         let (y0, y1) = y_range;
-        let result = match (plot.log_x, plot.log_y) {
-            (false, false) => draw(&root, plot, styles, legend, resolutions, x0..x1, y0..y1),
-            (true, false) => draw(&root, plot, styles, legend, resolutions, (x0..x1).log_scale(), y0..y1),
-            (false, true) => draw(&root, plot, styles, legend, resolutions, x0..x1, (y0..y1).log_scale()),
-            (true, true) => draw(&root, plot, styles, legend, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
-        };
-        result.and_then(|()| root.present().map_err(|e| e.to_string()))
-    };
-    match drawn {
-        Ok(()) => replace_with(&temporary, path),
-        Err(message) => {
-            let _ = std::fs::remove_file(&temporary);
-            Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing the plot failed: {message}")) })
+        match (plot.log_x, plot.log_y) {
+            (false, false) => draw(root, plot, styles, legend, resolutions, x0..x1, y0..y1),
+            (true, false) => draw(root, plot, styles, legend, resolutions, (x0..x1).log_scale(), y0..y1),
+            (false, true) => draw(root, plot, styles, legend, resolutions, x0..x1, (y0..y1).log_scale()),
+            (true, true) => draw(root, plot, styles, legend, resolutions, (x0..x1).log_scale(), (y0..y1).log_scale()),
         }
-    }
+    })
 }
 
-/// One bar of a [`write_bar_chart_png`]: its label and its value.
-pub struct Bar<'a> {
-    pub label: &'a str,
-    pub value: f64,
-}
-
-/// A horizontal bar chart on a logarithmic value axis: one labelled bar per entry, from `floor`
-/// to its value (values below `floor`, such as exact zeros, are drawn at `floor`, as a stub),
-/// and a dashed vertical `bound` line (a limit the bars must stay under). For comparisons of
-/// magnitudes that span decades, such as solver differences against their bound.
-pub fn write_bar_chart_png(title: &str, value_label: &str, bars: &[Bar], floor: f64, bound: Option<(&str, f64)>, path: &Path) -> Result<(), OutputError> {
-    if bars.is_empty() {
-        return Err(OutputError::invalid(path, format!("bar chart `{title}` has no bars")));
-    }
-    if !(floor > 0.0 && floor.is_finite()) {
-        return Err(OutputError::invalid(path, format!("bar chart `{title}`: the floor {floor} must be positive")));
-    }
-    for (index, bar) in bars.iter().enumerate() {
-        if bar.value.is_nan() || bar.value.is_infinite() {
-            return Err(OutputError::NonFinite { path: path.to_path_buf(), field: format!("bar `{}`", bar.label), index, value: bar.value });
-        }
-    }
-    register_embedded_font().map_err(|e| OutputError::invalid(path, e))?;
-    let high = bars.iter().map(|b| b.value).chain(bound.map(|b| b.1)).fold(floor, f64::max) * 10.0;
+/// Draws with `draw` on a WIDTH × HEIGHT bitmap written to a temporary sibling of `path`, then
+/// renames it into place; on failure the temporary is removed and the error names `what`.
+pub(crate) fn render_png(path: &Path, what: &str, draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), String>) -> Result<(), OutputError> {
     let temporary = temporary_sibling(path);
     let drawn = {
         let root = BitMapBackend::new(&temporary, (WIDTH, HEIGHT)).into_drawing_area();
-        let result = draw_bars(&root, title, value_label, bars, floor, high, bound);
-        result.and_then(|()| root.present().map_err(|e| e.to_string()))
+        draw(&root).and_then(|()| root.present().map_err(|e| e.to_string()))
     };
     match drawn {
         Ok(()) => replace_with(&temporary, path),
         Err(message) => {
             let _ = std::fs::remove_file(&temporary);
-            Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing the bar chart failed: {message}")) })
+            Err(OutputError::Io { path: path.to_path_buf(), source: std::io::Error::other(format!("drawing {what} failed: {message}")) })
         }
     }
 }
 
-fn draw_bars(
-    root: &DrawingArea<BitMapBackend, Shift>,
-    title: &str,
-    value_label: &str,
-    bars: &[Bar],
-    floor: f64,
-    high: f64,
-    bound: Option<(&str, f64)>,
-) -> Result<(), String> {
-    use plotters::coord::ranged1d::SegmentValue;
-    let error = |e: &dyn std::fmt::Display| e.to_string();
-    root.fill(&WHITE).map_err(|e| error(&e))?;
-    let n = bars.len();
-    // the longest label decides the label area (≈ 9 px per character at 17 px)
-    let label_width = bars.iter().map(|b| b.label.chars().count()).max().unwrap_or(0) as u32 * 9 + 20;
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 30))
-        .margin(20)
-        .x_label_area_size(60)
-        .y_label_area_size(label_width.clamp(80, WIDTH / 2))
-        // an integer range includes its end: n bars take 0..n−1 (one bar needs a second slot)
-        .build_cartesian_2d((floor..high).log_scale(), (0..(n - 1).max(1)).into_segmented())
-        .map_err(|e| error(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc(value_label)
-        .axis_desc_style(("sans-serif", 22))
-        .label_style(("sans-serif", 17))
-        .x_label_formatter(&|v| tick_text(*v, 0.0))
-        .y_labels(n)
-        .y_label_formatter(&|v| match v {
-            // the first bar at the top
-            SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => n.checked_sub(i + 1).and_then(|k| bars.get(k)).map_or(String::new(), |b| b.label.to_string()),
-            SegmentValue::Last => String::new(),
-        })
-        .disable_y_mesh()
-        .light_line_style(RGBColor(235, 235, 235))
-        .bold_line_style(RGBColor(205, 205, 205))
-        .draw()
-        .map_err(|e| error(&e))?;
-    let colour = PALETTE[0];
-    chart
-        .draw_series(bars.iter().enumerate().map(|(k, bar)| {
-            let i = n - 1 - k;
-            let mut rectangle = Rectangle::new([(floor, SegmentValue::Exact(i)), (bar.value.max(floor), SegmentValue::Exact(i + 1))], colour.filled());
-            rectangle.set_margin(4, 4, 0, 0);
-            rectangle
-        }))
-        .map_err(|e| error(&e))?
-        .label("largest difference")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], colour.filled()));
-    if let Some((label, value)) = bound {
-        let line = BLACK.stroke_width(2);
-        chart
-            .draw_series(DashedLineSeries::new(vec![(value, SegmentValue::Exact(0)), (value, SegmentValue::Last)], 12, 7, line))
-            .map_err(|e| error(&e))?
-            .label(label)
-            .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 24, y)], 6, 3, line));
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .label_font(("sans-serif", 18))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| error(&e))?;
-    Ok(())
-}
-
-fn register_embedded_font() -> Result<(), String> {
+pub(crate) fn register_embedded_font() -> Result<(), String> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| plotters::style::register_font("sans-serif", FontStyle::Normal, DEJAVU_SANS).is_ok());
     if ok {
@@ -294,7 +192,7 @@ fn axis_range(path: &Path, plot: &Plot, axis: Axis) -> Result<(f64, f64), Output
 /// axis, where `resolution` is 0): plain numbers for ordinary magnitudes, exponent form for very
 /// small or large ones. A tick smaller than half the resolution is round-off of zero (e.g.
 /// 5.6e-17 on an axis from -1 to 1) and prints as "0".
-fn tick_text(value: f64, resolution: f64) -> String {
+pub(crate) fn tick_text(value: f64, resolution: f64) -> String {
     let magnitude = value.abs();
     if magnitude == 0.0 || magnitude < 0.5 * resolution {
         return "0".to_string();
@@ -440,6 +338,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::bar_chart::{write_bar_chart_png, Bar};
     use crate::output::test_dir;
 
     /// Width and height from a PNG's IHDR chunk, after checking the signature.
