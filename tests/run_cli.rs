@@ -483,3 +483,37 @@ fn steps_capped_by_the_outer_loop_are_reported() {
     let out = spillage(&["run", quiet.to_str().unwrap(), "--out", dir.join("quiet").to_str().unwrap()]);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("outer loop stopped"));
 }
+
+/// A failed linear solve names the step, the time, the equation and the worst cell with its
+/// position (issue 14 item 4): the shipped rotor/stator case refined to 16 radial cells at the
+/// same Δt (issue 15 item 1) fails on step 1 in the fast solver's momentum predictor and on
+/// step 2 in the reference's (measured).
+#[test]
+fn a_failed_linear_solve_names_step_time_equation_and_cell() {
+    let dir = scratch("linear-failure");
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/rotor_stator.toml")).unwrap();
+    let refined = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("n_r_rotor") {
+                "n_r_rotor = 16"
+            } else if l.starts_with("n_r_stator") {
+                "n_r_stator = 16"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(refined.contains("n_r_rotor = 16") && refined.contains("n_r_stator = 16"), "the case changed: update this test");
+    let case = dir.join("rotor_stator_16.toml");
+    std::fs::write(&case, refined).unwrap();
+    for (solver, step) in [("fast", "step 1"), ("reference", "step 2")] {
+        let out = spillage(&["run", case.to_str().unwrap(), "--solver", solver, "--out", dir.join(solver).to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{solver}: the refined case ran; pick another failing case for this test");
+        for part in [step, "t = ", "momentum predictor", "in cell ", ") m"] {
+            assert!(stderr.contains(part), "{solver}: `{part}` missing from: {stderr}");
+        }
+    }
+}

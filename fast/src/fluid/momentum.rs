@@ -11,7 +11,7 @@ use spillage_model::turbulence::Viscosity;
 
 use super::assembly::{convection_weight, directional, explicit_stress, interpolate_tensor, par_for, vec_of, Out};
 use super::buffers::{MomentumLinkCoefficients, MomentumSystem};
-use super::settings::{unconverged, SolveCounts};
+use super::settings::{unconverged, worst_cell, SolveCounts};
 use super::step_inputs::{Discretisation, StepConstants};
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::{par_update, Tolerance};
@@ -187,11 +187,10 @@ pub fn predict(
         let stats = solve.solver.solve(&system.matrix, &rhs[j], &mut velocity[j], solve.tolerance);
         solve.counts.momentum_seconds += clock.elapsed().as_secs_f64();
         solve.counts.momentum_iterations += stats.iterations;
-        if !stats.final_residual.is_finite() {
-            return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): residual not finite")));
-        }
-        if let Some(message) = unconverged(&stats, solve.tolerance) {
-            return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): {message}")));
+        let failure = if !stats.final_residual.is_finite() { Some("residual not finite".to_string()) } else { unconverged(&stats, solve.tolerance) };
+        if let Some(message) = failure {
+            let place = worst_cell(&system.matrix, &rhs[j], &velocity[j], disc.cell_centres);
+            return Err(SolverError::LinearSolve(format!("momentum predictor (component {j}): {message}; {place}")));
         }
     }
     Ok(())

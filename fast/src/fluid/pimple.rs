@@ -292,6 +292,7 @@ impl FastFluid {
             adjacency: &self.adjacency,
             boundary: &self.boundary,
             cell_volumes: &self.mesh.cell_volumes,
+            cell_centres: &self.mesh.cell_centres,
             conditions: &self.conditions,
             solved: self.solved,
         };

@@ -14,7 +14,7 @@ use spillage_model::solver::SolverError;
 use super::assembly::{directional, interpolate_tensor, par_for, Out};
 use super::buffers::{CorrectorBuffers, MomentumSystem};
 use super::layout::NO_CELL;
-use super::settings::{unconverged, SolveCounts};
+use super::settings::{unconverged, worst_cell, SolveCounts};
 use super::step_inputs::{Discretisation, StepConstants};
 use crate::linear::amg::Amg;
 use crate::linear::pcg::Pcg;
@@ -199,11 +199,10 @@ pub fn correct(
             // corrector's
             initial_residual = stats.initial_residual;
         }
-        if !stats.final_residual.is_finite() {
-            return Err(SolverError::LinearSolve("pressure equation: residual not finite".into()));
-        }
-        if let Some(message) = unconverged(&stats, inputs.tolerance) {
-            return Err(SolverError::LinearSolve(format!("pressure equation: {message}")));
+        let failure = if !stats.final_residual.is_finite() { Some("residual not finite".to_string()) } else { unconverged(&stats, inputs.tolerance) };
+        if let Some(message) = failure {
+            let place = worst_cell(&work.pressure_matrix, &work.pressure_rhs, &work.pressure_solution, inputs.step.disc.cell_centres);
+            return Err(SolverError::LinearSolve(format!("pressure equation: {message}; {place}")));
         }
     }
     conservative_fluxes(disc, work, fields.link_flux, fields.boundary_flux);

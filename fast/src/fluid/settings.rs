@@ -4,7 +4,9 @@
 
 use spillage_model::fluid::settings::NumericsSection;
 
-use crate::linear::{SolveStats, Tolerance};
+use spillage_model::mesh::Vec3;
+
+use crate::linear::{Csr, SolveStats, Tolerance};
 
 /// Linear-solver controls of the fast solver (the reference solves exactly). The defaults are
 /// tight enough for the step-by-step equivalence with the reference (tests/fast_equivalence.rs).
@@ -68,6 +70,21 @@ pub fn unconverged(stats: &SolveStats, tolerance: Tolerance) -> Option<String> {
     })
 }
 
+/// Where a failed solve of A x = b is worst, for its error message: the first cell whose value
+/// is not finite, else the cell of the largest residual |b − Ax|, with its centre. Runs only on
+/// the error path (it allocates the residual).
+pub fn worst_cell(matrix: &Csr, rhs: &[f64], x: &[f64], cell_centres: &[Vec3]) -> String {
+    let cell = x.iter().position(|v| !v.is_finite()).unwrap_or_else(|| {
+        let mut ax = vec![0.0; x.len()];
+        matrix.multiply(x, &mut ax);
+        (0..x.len()).max_by(|&a, &b| (rhs[a] - ax[a]).abs().total_cmp(&(rhs[b] - ax[b]).abs())).unwrap_or(0)
+    });
+    match cell_centres.get(cell) {
+        Some(c) => format!("worst in cell {cell} at ({:.4e}, {:.4e}, {:.4e}) m", c.x, c.y, c.z),
+        None => format!("worst in row {cell}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,5 +99,16 @@ mod tests {
         assert!(unconverged(&slow, limit).unwrap().contains("raise [numerics] max_linear_iterations"));
         let converged = SolveStats { iterations: 12, initial_residual: 1e-3, final_residual: 1e-9 };
         assert!(unconverged(&converged, limit).is_none());
+    }
+
+    #[test]
+    fn the_worst_cell_is_the_first_non_finite_value_else_the_largest_residual() {
+        // diag(1, 2, 4) x = (1, 1, 1)
+        let m = Csr { n: 3, row_start: vec![0, 0, 0, 0], col: vec![], val: vec![], diag: vec![1.0, 2.0, 4.0] };
+        let centres = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0)];
+        let rhs = [1.0, 1.0, 1.0];
+        // residuals 0, 0.5, 1 → cell 2
+        assert!(worst_cell(&m, &rhs, &[1.0, 0.25, 0.0], &centres).starts_with("worst in cell 2 at (2.0000e0"));
+        assert!(worst_cell(&m, &rhs, &[1.0, f64::NAN, 0.0], &centres).starts_with("worst in cell 1 at (1.0000e0"));
     }
 }

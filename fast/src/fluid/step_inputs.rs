@@ -18,6 +18,8 @@ pub struct Discretisation<'a> {
     pub adjacency: &'a Adjacency,
     pub boundary: &'a Boundary,
     pub cell_volumes: &'a [f64],
+    /// Cell centres (error messages name the worst cell's position).
+    pub cell_centres: &'a [Vec3],
     pub conditions: &'a Conditions,
     /// Velocity components solved (false along the normal of empty patches: 2-D meshes).
     pub solved: [bool; 3],

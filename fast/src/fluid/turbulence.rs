@@ -13,7 +13,7 @@ use spillage_model::turbulence::wall_function::{self, y_plus_laminar};
 use spillage_model::turbulence::{TurbulenceSection, TurbulenceState};
 
 use super::assembly::{par_for, vec_of, Out};
-use super::settings::unconverged;
+use super::settings::{unconverged, worst_cell};
 use super::step_inputs::{Discretisation, TimeStep, VolumeFractions};
 use crate::linear::bicgstab::BiCgStab;
 use crate::linear::{Csr, Tolerance};
@@ -330,10 +330,11 @@ impl FastTurbulence {
         let stats = self.solver.solve(&self.matrix, &self.rhs, &mut self.solution, inputs.tolerance);
         let failure = if !stats.final_residual.is_finite() { Some("residual not finite".to_string()) } else { unconverged(&stats, inputs.tolerance) };
         if let Some(message) = failure {
+            let place = worst_cell(&self.matrix, &self.rhs, &self.solution, inputs.disc.cell_centres);
             return Err(SolverError::Diverged {
                 step: inputs.step,
                 time: inputs.time_end,
-                what: format!("the {field} equation of the turbulence model: {message}"),
+                what: format!("the {field} equation of the turbulence model: {message}; {place}"),
             });
         }
         for (out, value) in q.iter_mut().zip(&self.solution) {

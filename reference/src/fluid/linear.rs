@@ -4,6 +4,7 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
+use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
 
 /// A square sparse matrix as a list of (row, column, value) entries; repeated entries add up.
@@ -50,6 +51,16 @@ impl SparseMatrix {
     /// Factorises once and solves for every right-hand side. `what` names the equation in
     /// error messages.
     pub fn solve(&self, rhs: &[Vec<f64>], what: &str) -> Result<Vec<Vec<f64>>, SolverError> {
+        self.solve_located(rhs, what, None)
+    }
+
+    /// [`SparseMatrix::solve`] for an equation with one row per cell: a non-finite solution is
+    /// reported with the first cell where it is not finite and that cell's centre.
+    pub fn solve_on_cells(&self, rhs: &[Vec<f64>], what: &str, cell_centres: &[Vec3]) -> Result<Vec<Vec<f64>>, SolverError> {
+        self.solve_located(rhs, what, Some(cell_centres))
+    }
+
+    fn solve_located(&self, rhs: &[Vec<f64>], what: &str, cell_centres: Option<&[Vec3]>) -> Result<Vec<Vec<f64>>, SolverError> {
         let mut all = self.entries.clone();
         for (i, d) in self.diagonal.iter().enumerate() {
             all.push(Triplet::new(i, i, *d));
@@ -67,8 +78,12 @@ impl SparseMatrix {
         let mut out = Vec::with_capacity(rhs.len());
         for j in 0..rhs.len() {
             let column: Vec<f64> = (0..self.n).map(|i| b[(i, j)]).collect();
-            if column.iter().any(|v| !v.is_finite()) {
-                return Err(SolverError::LinearSolve(format!("{what}: the solution is not finite (singular matrix?)")));
+            if let Some(row) = column.iter().position(|v| !v.is_finite()) {
+                let place = match cell_centres.and_then(|c| c.get(row)) {
+                    Some(x) => format!("; first in cell {row} at ({:.4e}, {:.4e}, {:.4e}) m", x.x, x.y, x.z),
+                    None => format!("; first in row {row}"),
+                };
+                return Err(SolverError::LinearSolve(format!("{what}: the solution is not finite (singular matrix?){place}")));
             }
             out.push(column);
         }

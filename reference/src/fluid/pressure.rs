@@ -148,7 +148,7 @@ pub fn correct(inputs: &StepInputs, system: &MomentumSystem, prescribed: &[Optio
         if corrector == 0 {
             initial_residual = normalised_residual(&lap, &rhs, &p_start);
         }
-        p_work = lap.solve(&[rhs], "pressure equation")?.remove(0);
+        p_work = lap.solve_on_cells(&[rhs], "pressure equation", inputs.cell_centres)?.remove(0);
     }
 
     // conservative fluxes from the final pressure (T4.28)

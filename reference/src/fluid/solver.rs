@@ -190,7 +190,7 @@ impl ReferenceFluid {
                     solved.push(j);
                 }
             }
-            let solution = system.matrix.solve(&rhs, "momentum predictor")?;
+            let solution = system.matrix.solve_on_cells(&rhs, "momentum predictor", &self.mesh.cell_centres)?;
             for (k, j) in solved.iter().enumerate() {
                 for c in 0..n {
                     u[c][*j] = solution[k][c];
@@ -274,6 +274,7 @@ impl ReferenceFluid {
             geo: &geo,
             conditions: &self.conditions,
             volumes: &volumes,
+            cell_centres: &self.mesh.cell_centres,
             nu: self.nu,
             dt,
             alpha: &alpha,

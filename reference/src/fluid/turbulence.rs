@@ -54,6 +54,7 @@ pub struct TurbulenceInputs<'a> {
     pub geo: &'a Geometry,
     pub conditions: &'a Conditions,
     pub volumes: &'a [f64],
+    pub cell_centres: &'a [Vec3],
     pub nu: f64,
     pub dt: f64,
     pub alpha: &'a [f64],
@@ -309,7 +310,7 @@ impl RealizableKEpsilon {
             }
         }
         let mut solution = reduced
-            .solve(&[source], &format!("turbulence ({field})"))
+            .solve_on_cells(&[source], &format!("turbulence ({field})"), inputs.cell_centres)
             .map_err(|e| SolverError::Diverged { step: inputs.step, time: inputs.time, what: format!("the {field} equation of the turbulence model: {e}") })?
             .remove(0);
         for value in solution.iter_mut() {
