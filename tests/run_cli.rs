@@ -323,7 +323,7 @@ fn a_two_way_coupled_run_writes_the_coupling_fields() {
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
     // The fluid case runs the default (fast, multi-threaded) solver.
-    let dir = scratch("threads");
+    let dir = scratch("thread-count");
     for (case, last) in [(fluid_case(&dir, 3), 3), (particle_case(&dir, 60), 60)] {
         let (one, two) = (dir.join(format!("one-{last}")), dir.join(format!("two-{last}")));
         run_ok(&["run", case.to_str().unwrap(), "--out", one.to_str().unwrap(), "--threads", "1"]);
