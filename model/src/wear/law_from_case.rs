@@ -214,18 +214,7 @@ fn ecrc_from_section(section: &WearSection) -> Result<EcrcConstants, FieldError>
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn section(text: &str) -> WearSection {
-        toml::from_str(text).unwrap()
-    }
-
-    fn law(text: &str) -> ErosionLaw {
-        ErosionLaw::from_section(&section(text)).unwrap()
-    }
-
-    fn arabnejad(preset: &str, extra: &str) -> ErosionLaw {
-        law(&format!("law = \"arabnejad\"\n{extra}\n[material]\npreset = \"{preset}\"\n"))
-    }
+    use crate::wear::test_support::{arabnejad, law, section};
 
     #[test]
     fn each_law_builds_with_its_defaults() {

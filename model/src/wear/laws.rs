@@ -392,22 +392,10 @@ impl EcrcConstants {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wear::settings::WearSection;
+    use crate::wear::test_support::{arabnejad, law};
 
     const DEG: f64 = std::f64::consts::PI / 180.0;
     const K: f64 = 0.4;
-
-    fn section(text: &str) -> WearSection {
-        toml::from_str(text).unwrap()
-    }
-
-    fn law(text: &str) -> ErosionLaw {
-        ErosionLaw::from_section(&section(text)).unwrap()
-    }
-
-    fn arabnejad(preset: &str, extra: &str) -> ErosionLaw {
-        law(&format!("law = \"arabnejad\"\n{extra}\n[material]\npreset = \"{preset}\"\n"))
-    }
 
     /// A 1 mm garnet (ρ = 2500 kg/m³): m = ρπd³/6 = 1.3089969e-6 kg (A9).
     fn garnet(speed: f64, angle_deg: f64) -> ImpactInput {

@@ -9,3 +9,5 @@ pub mod profile;
 pub mod settings;
 pub mod state;
 pub mod surface;
+#[cfg(test)]
+mod test_support;

@@ -154,7 +154,7 @@ impl TurbulenceModel for RealizableKEpsilon {
         let mut wall_epsilon = vec![0.0; n];
         let mut wall_production = vec![0.0; n];
         for (b, face) in geo.boundary.iter().enumerate() {
-            if !self.is_wall(inputs.conditions, face.patch) {
+            if !inputs.conditions.wall[face.patch] {
                 continue;
             }
             let p = face.cell;
@@ -208,7 +208,7 @@ impl TurbulenceModel for RealizableKEpsilon {
         let mut patch_sums = vec![(0.0, 0.0); inputs.conditions.conditions.len()];
         for face in &geo.boundary {
             let p = face.cell;
-            if self.is_wall(inputs.conditions, face.patch) {
+            if inputs.conditions.wall[face.patch] {
                 let y_plus = wall_function::y_plus(new.k[p], face.normal_distance, nu, c);
                 new.y_plus[face.index] = y_plus;
                 new.nu_t_boundary[face.index] = wall_function::wall_eddy_viscosity(y_plus, nu, self.y_plus_lam, c);
@@ -233,10 +233,6 @@ impl TurbulenceModel for RealizableKEpsilon {
 }
 
 impl RealizableKEpsilon {
-    fn is_wall(&self, conditions: &Conditions, condition: usize) -> bool {
-        conditions.wall[condition]
-    }
-
     /// (k, ε) entering through boundary entry `b` if it is a velocity inlet (not a wall).
     fn inlet_values(&self, inputs: &TurbulenceInputs, b: usize) -> Option<(f64, f64)> {
         let face = &inputs.geo.boundary[b];
