@@ -32,8 +32,7 @@ pub struct RunOptions {
 }
 
 /// Builds the run a case needs, from the initial state or a restart state: the step driver
-/// with the case's fluid phase (fast or reference) and particle phase (the reference DEM; the
-/// fast DEM does not exist yet).
+/// with the case's fluid and particle phases, both fast or both reference.
 pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
     let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
     if let Some(restart) = &state {
@@ -52,14 +51,10 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
         (Some(_), None) => anyhow::bail!("{}: a case with [fluid] needs a [mesh]", case.path.display()),
         (None, _) => None,
     };
-    let particles: Option<Box<dyn ParticlePhase>> = match &case.particles {
-        Some(_) => {
-            if choice == SolverChoice::Fast {
-                eprintln!("note: the fast DEM does not exist yet; the particles run on the reference DEM");
-            }
-            Some(Box::new(spillage_reference::dem::ReferenceDem::new(case, &mut state).map_err(located)?))
-        }
-        None => None,
+    let particles: Option<Box<dyn ParticlePhase>> = match (&case.particles, choice) {
+        (Some(_), SolverChoice::Fast) => Some(Box::new(spillage_fast::dem::FastDem::new(case, &mut state).map_err(located)?)),
+        (Some(_), SolverChoice::Reference) => Some(Box::new(spillage_reference::dem::ReferenceDem::new(case, &mut state).map_err(located)?)),
+        (None, _) => None,
     };
     if fluid.is_some() && particles.is_some() && case.coupling.is_none() {
         eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles; add a [coupling] section for two-way coupling");
@@ -104,6 +99,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let out = crate::results_folder::prepare(opts.out.as_deref(), &default, restart.as_ref().map(|s| s.step), opts.force)?;
     let restart_time = restart.as_ref().map(|s| s.time);
     let restart_step = restart.as_ref().map(|s| s.step);
+    let restart_angle = restart.as_ref().map_or(0.0, |s| s.rotor_angle);
     let mut solver = build_solver(&case, opts.solver, restart)?;
 
     let mut summary = Summary::new(&case.case.name, solver.name());
@@ -125,6 +121,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         restart_step,
         steps: 0,
         step_seconds: 0.0,
+        particle_substeps: 0.0,
         outer: OuterLoop::default(),
     };
     let result = run.time_loop(solver.as_mut(), &mut progress);
@@ -139,6 +136,14 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         let cells = solver.mesh().map_or(0, |m| m.n_cells());
         if cells > 0 {
             summary.set_result("microseconds_per_cell_step", 1e6 * run.step_seconds / (run.steps as f64 * cells as f64));
+        }
+        if run.particle_substeps > 0.0 {
+            // of the whole step's time: with a fluid, the fluid's share is in it too
+            summary.set_result("particle_substeps_per_second", run.particle_substeps / run.step_seconds);
+        }
+        let turned = (state.rotor_angle - restart_angle).abs() / std::f64::consts::TAU;
+        if turned > 0.0 {
+            summary.set_result("seconds_per_revolution", run.step_seconds / turned);
         }
     }
     summary.set_result("final_time", state.time);
@@ -200,6 +205,8 @@ struct Running<'a> {
     restart_step: Option<u64>,
     steps: u64,
     step_seconds: f64,
+    /// Σ DEM sub-steps × particles over the steps run (the DEM's work, for its speed).
+    particle_substeps: f64,
     outer: OuterLoop,
 }
 
@@ -296,6 +303,10 @@ impl Running<'_> {
             self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));
         }
         self.outer.record(self.case, report);
+        let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        if let (Some(substeps), Some(particles)) = (value("substeps"), value("particles")) {
+            self.particle_substeps += substeps * particles;
+        }
         let (writer, last, row) = self.series.as_mut().expect("just created");
         row.clear();
         row.extend([state.step as f64, state.time, state.dt]);

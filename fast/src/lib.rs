@@ -3,5 +3,6 @@
 //! results are bit-identical on any number of threads, preconditioned Krylov solvers with an
 //! aggregation multigrid for the pressure).
 
+pub mod dem;
 pub mod fluid;
 pub mod linear;

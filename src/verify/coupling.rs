@@ -3,10 +3,11 @@
 //! mapping and mesh, Stokes settling and its time-step order, hindered settling of a cloud (P3)
 //! against the Di Felice closure (Table 6.3), and the pressure a suspension carries.
 //!
-//! The runs take the reference DEM with either fluid solver ([`FluidSolver`]); on their own
-//! they take the fast fluid, as the reference fluid would take ~10× longer on the finer levels,
+//! The runs take the fast or the reference solver, fluid and DEM ([`FluidSolver`]); on their own
+//! they take the fast one, as the reference fluid would take ~10× longer on the finer levels,
 //! and `spillage verify` runs both (`tests/coupling_verification.rs` and the verify ladder hold
-//! the fast fluid to the reference fluid step by step, ≤ 1e-8). Reference answers come from the
+//! the fast fluid to the reference fluid step by step, ≤ 1e-8, and the fast DEM to the
+//! reference DEM, ≤ 1e-10: `tests/fast_dem_equivalence.rs`). Reference answers come from the
 //! analytic crate, which solves the same particle equation independently.
 
 use std::path::Path;
@@ -16,6 +17,7 @@ use spillage_analytic::drag_laws::DragLaw as AnalyticDrag;
 use spillage_analytic::hindered_settling::{cloud_settling_velocity, CloudReconstruction};
 use spillage_analytic::hindered_settling::{richardson_zaki_velocity, rowe_exponent};
 use spillage_analytic::settling::SettlingSphere;
+use spillage_fast::dem::FastDem;
 use spillage_fast::fluid::FastFluid;
 use spillage_model::case::{Case, MeshSection};
 use spillage_model::coupling::{Feedback, MappingMethod};
@@ -24,7 +26,7 @@ use spillage_model::output::plot::{write_png_styled, Plot, Series, Style};
 use spillage_model::particles::settings::{BoxRegion, GroupSection};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
-use spillage_model::step::{Coupled, FluidPhase};
+use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
 use spillage_reference::dem::ReferenceDem;
 use spillage_reference::fluid::ReferenceFluid;
 
@@ -107,14 +109,14 @@ struct Trace {
     state: State,
 }
 
-/// Runs `case` with the `solver` fluid and the reference DEM to its end time.
+/// Runs `case` with the `solver` fluid and DEM (fast or reference) to its end time.
 fn run(case: &Case, solver: FluidSolver) -> Result<Trace> {
     let mesh = super::fluid::build_mesh(case)?;
     let mut state = State::default();
     match solver {
         FluidSolver::Fast => {
             let fluid = FastFluid::new(case, mesh, &mut state)?;
-            let dem = ReferenceDem::new(case, &mut state)?;
+            let dem = FastDem::new(case, &mut state)?;
             run_with(case, Coupled::new(case, state, Some(fluid), Some(dem))?)
         }
         FluidSolver::Reference => {
@@ -125,7 +127,7 @@ fn run(case: &Case, solver: FluidSolver) -> Result<Trace> {
     }
 }
 
-fn run_with<F: FluidPhase>(case: &Case, mut solver: Coupled<F, ReferenceDem>) -> Result<Trace> {
+fn run_with<F: FluidPhase, P: ParticlePhase>(case: &Case, mut solver: Coupled<F, P>) -> Result<Trace> {
     let dt = case.time.dt.ok_or_else(|| anyhow!("coupling checks need a fixed [time] dt"))?;
     let end = case.time.end_time.ok_or_else(|| anyhow!("coupling checks need [time] end_time"))?;
     let steps = (end / dt - 1e-9).ceil() as u64;

@@ -12,6 +12,7 @@ pub mod equivalence;
 pub mod figures;
 pub mod fluid;
 pub mod head_model;
+pub mod particle_equivalence;
 pub mod report;
 pub mod rotating_frame;
 pub mod turbulence;

@@ -129,6 +129,11 @@ pub fn run_case_for_report(case: &Case, full: bool, plots: Option<&Path>) -> Res
         rows.push(e.row(&case.case.name));
         Comparison::Compared(e)
     };
+    if case.particles.is_some() {
+        // the particle phases, step by step from the same state (issue 19)
+        let e = super::particle_equivalence::compare_particle_phases(case, super::particle_equivalence::MIN_SUBSTEPS, PARTICLE_STEPS_MAX)?;
+        rows.push(e.row(&case.case.name));
+    }
     Ok(CaseResult {
         path: case.path.clone(),
         name: case.case.name.clone(),
@@ -140,6 +145,9 @@ pub fn run_case_for_report(case: &Case, full: bool, plots: Option<&Path>) -> Res
         figures,
     })
 }
+
+/// Outer steps the particle-phase comparison may take to reach its sub-steps.
+const PARTICLE_STEPS_MAX: u64 = 120;
 
 /// How numbers are printed: as measured (the report) or rounded to their tolerance with no
 /// times (the golden snapshot, so noise far below a tolerance does not churn it).

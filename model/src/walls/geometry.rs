@@ -3,7 +3,7 @@
 
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as GlamVector;
-use parry3d_f64::query::PointQueryWithLocation;
+use parry3d_f64::query::{PointQuery, PointQueryWithLocation};
 use parry3d_f64::shape::{TriMesh, TrianglePointLocation};
 
 use super::state::Vec3;
@@ -176,17 +176,46 @@ impl WallMesh {
     /// What remains are the local minima of the distance: one per flat region, and one per face
     /// in a concave corner.
     pub fn sphere_contacts(&self, centre: Vec3, radius: f64) -> Vec<MeshContact> {
+        let mut ids = Vec::new();
+        self.triangles_near(centre, radius, &mut ids);
+        let mut scratch = ContactScratch::default();
+        self.sphere_contacts_among(&ids, centre, radius, &mut scratch);
+        scratch.accepted
+    }
+
+    /// The triangles whose bounding boxes meet the cube of half-width `reach` around `centre`,
+    /// in ascending order, into `out` (cleared first). With `reach` = radius + skin the list
+    /// holds every triangle a sphere of `radius` can touch while its centre stays within the
+    /// skin of `centre` (in every coordinate).
+    pub fn triangles_near(&self, centre: Vec3, reach: f64, out: &mut Vec<u32>) {
         let c = to_glam(centre);
-        let half = GlamVector::splat(radius);
+        let half = GlamVector::splat(reach);
         let aabb = Aabb::new(c - half, c + half);
-        let mut ids: Vec<u32> = self.trimesh.bvh().intersect_aabb(&aabb).collect();
-        ids.sort_unstable();
-        struct Candidate {
-            contact: MeshContact,
-            on_face: bool,
-        }
-        let mut candidates = Vec::new();
-        for id in ids {
+        out.clear();
+        out.extend(self.trimesh.bvh().intersect_aabb(&aabb));
+        out.sort_unstable();
+    }
+
+    /// The triangles closer than `reach` to `centre`, in ascending order, into `out` (cleared
+    /// first): with `reach` = radius + skin, every triangle a sphere of `radius` can touch while
+    /// its centre stays within the (Euclidean) skin of `centre`. A margin of 1e-9 `reach` keeps
+    /// triangles at the limit whatever the projection's round-off.
+    pub fn triangles_within(&self, centre: Vec3, reach: f64, out: &mut Vec<u32>) {
+        self.triangles_near(centre, reach, out);
+        let c = to_glam(centre);
+        let limit = reach * (1.0 + 1e-9);
+        out.retain(|&id| self.trimesh.triangle(id).distance_to_local_point(c, false) < limit);
+    }
+
+    /// [`Self::sphere_contacts`] among the triangles `ids` (ascending, a superset of those
+    /// within `radius`), into `scratch.accepted`; the buffers are reused, nothing is allocated
+    /// once they have grown.
+    pub fn sphere_contacts_among(&self, ids: &[u32], centre: Vec3, radius: f64, scratch: &mut ContactScratch) {
+        let c = to_glam(centre);
+        let candidates = &mut scratch.candidates;
+        candidates.clear();
+        scratch.accepted.clear();
+        for &id in ids {
             let triangle = self.trimesh.triangle(id);
             let (projection, location) = triangle.project_local_point_and_get_location(c, false);
             let point = from_glam(projection.point);
@@ -200,10 +229,9 @@ impl WallMesh {
         candidates.sort_by(|a, b| a.contact.distance.total_cmp(&b.contact.distance).then(a.contact.triangle.cmp(&b.contact.triangle)));
         // Tolerances relative to the sphere size: far above round-off, far below any geometry.
         let same_point = 1e-9 * radius;
-        let mut accepted: Vec<MeshContact> = Vec::new();
         for (k, candidate) in candidates.iter().enumerate() {
             let p = candidate.contact.point;
-            if accepted.iter().any(|a| (a.point - p).norm() <= same_point) {
+            if scratch.accepted.iter().any(|a| (a.point - p).norm() <= same_point) {
                 continue;
             }
             if !candidate.on_face {
@@ -220,10 +248,24 @@ impl WallMesh {
                     continue;
                 }
             }
-            accepted.push(candidate.contact);
+            scratch.accepted.push(candidate.contact);
         }
-        accepted
     }
+}
+
+/// A triangle within the radius, before the local-minimum filter of
+/// [`WallMesh::sphere_contacts`].
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    contact: MeshContact,
+    on_face: bool,
+}
+
+/// Work buffers of [`WallMesh::sphere_contacts_among`]; `accepted` holds its answer.
+#[derive(Clone, Debug, Default)]
+pub struct ContactScratch {
+    candidates: Vec<Candidate>,
+    pub accepted: Vec<MeshContact>,
 }
 
 #[cfg(test)]

@@ -80,31 +80,46 @@ impl Wall {
             (WallMotion::Static, _) | (WallMotion::Rotor, None) => WallPose::default(),
         };
     }
-    fn rotation(&self) -> Rotation3<f64> {
-        if self.pose.angle == 0.0 {
-            Rotation3::identity()
-        } else {
-            Rotation3::from_axis_angle(&Unit::new_normalize(self.pose.axis), self.pose.angle)
-        }
+    /// The current pose resolved once, for transforming many points.
+    pub fn frame(&self) -> WallFrame {
+        let rotation =
+            if self.pose.angle == 0.0 { Rotation3::identity() } else { Rotation3::from_axis_angle(&Unit::new_normalize(self.pose.axis), self.pose.angle) };
+        WallFrame { pivot: self.pose.origin, inverse: rotation.inverse(), rotation, displacement: self.pose.displacement }
     }
     /// Body-frame point → world point at the current pose.
     pub fn to_world(&self, body: Vec3) -> Vec3 {
-        let pivot = self.pose.origin;
-        pivot + self.rotation() * (body - pivot) + self.pose.displacement
+        self.frame().to_world(body)
     }
     /// World point → body-frame point at the current pose.
     pub fn to_body(&self, world: Vec3) -> Vec3 {
-        let pivot = self.pose.origin;
-        pivot + self.rotation().inverse() * (world - self.pose.displacement - pivot)
+        self.frame().to_body(world)
     }
     /// Body-frame direction → world direction.
     pub fn direction_to_world(&self, body: Vec3) -> Vec3 {
-        self.rotation() * body
+        self.frame().rotation * body
     }
     /// Velocity of the wall material at world point `p` [m/s] (§7.4: ω × (x − x_axis) + v).
     pub fn surface_velocity(&self, p: Vec3) -> Vec3 {
         let pose = &self.pose;
         rigid_rotation_velocity(pose.omega, &pose.axis, &(pose.origin + pose.displacement), &p) + pose.velocity
+    }
+}
+
+/// A wall's rigid pose with its rotation built: body frame ↔ world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallFrame {
+    pub pivot: Vec3,
+    pub rotation: Rotation3<f64>,
+    pub inverse: Rotation3<f64>,
+    pub displacement: Vec3,
+}
+
+impl WallFrame {
+    pub fn to_world(&self, body: Vec3) -> Vec3 {
+        self.pivot + self.rotation * (body - self.pivot) + self.displacement
+    }
+    pub fn to_body(&self, world: Vec3) -> Vec3 {
+        self.pivot + self.inverse * (world - self.displacement - self.pivot)
     }
 }
 

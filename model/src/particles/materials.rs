@@ -1,9 +1,9 @@
 //! Contact constants of every material pair, resolved once from `[[particles.materials]]`.
 
-use spillage_model::closure::contact::{
-    effective_shear_modulus, effective_youngs_modulus, harmonic, normal_stiffness, tangential_stiffness, PairConstants, SlipTest,
-};
-use spillage_model::particles::settings::MaterialSection;
+use super::settings::MaterialSection;
+use crate::closure::contact::damping_ratio;
+use crate::closure::contact::{effective_shear_modulus, effective_youngs_modulus, harmonic, normal_stiffness, tangential_stiffness, PairConstants, SlipTest};
+use crate::closure::restitution::{stokes_number, wet_restitution};
 
 /// What the contact law needs of one pair of materials.
 #[derive(Clone, Copy, Debug)]
@@ -57,6 +57,25 @@ impl MaterialTable {
             friction: pair.friction,
             slip_test: self.slip_test,
         }
+    }
+
+    /// α_η of a new contact (§7.8 step 3): ε_wet from St_AM at first touch when `wet_fluid`
+    /// (ρ_f, ν) is given (T3.103–104), else ε_dry; then (T3.101).
+    pub fn first_touch_damping_ratio(
+        &self,
+        material_i: usize,
+        material_j: usize,
+        wet_fluid: Option<(f64, f64)>,
+        approach_speed: f64,
+        density: f64,
+        diameter: f64,
+    ) -> f64 {
+        let dry = self.pairs[material_i][material_j].dry_restitution;
+        let restitution = match wet_fluid {
+            Some((rho_f, nu)) => wet_restitution(dry, stokes_number(density, rho_f, approach_speed.max(0.0), diameter, nu)),
+            None => dry,
+        };
+        damping_ratio(restitution)
     }
 
     /// The largest E* of any pair (for the worst-case collision time, §7.6).

@@ -1,0 +1,97 @@
+//! DEM alone (issue 19): a dense bed of 10⁴ and 10⁵ spheres settling in a closed box
+//! (`cases/bench/settle_box_10k.toml`, `settle_box_100k.toml`: d = 10 mm, Hertz–Mindlin–Tsuji
+//! with E softened to 1e7 Pa, e = 0.5, μ = 0.3, sub-step 1/21 of the collision time), in
+//! particle sub-steps per second: the fast DEM on 1 and 2 threads, the reference DEM on 1, all
+//! measured in one run.
+//!
+//! `cargo bench --bench dem_settle` prints the rates and ratios and writes them to
+//! `target/spillage-bench/dem_settle.json`; LIGGGHTS' rate on the same bed comes from
+//! `benches/peers/liggghts_settle/run.sh`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use criterion::{criterion_group, Criterion};
+use spillage_fast::dem::FastDem;
+use spillage_model::case::Case;
+use spillage_model::solver::Solver;
+use spillage_model::state::State;
+use spillage_model::step::{Coupled, ParticlePhase};
+use spillage_reference::dem::ReferenceDem;
+
+fn bed(name: &str) -> Case {
+    Case::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench").join(name)).expect("benchmark case")
+}
+
+fn run<P: ParticlePhase>(case: &Case, make: fn(&Case, &mut State) -> P) -> Coupled<spillage_model::step::Absent, P> {
+    let mut state = State::default();
+    let dem = make(case, &mut state);
+    Coupled::particles_only(case, state, dem).expect("run")
+}
+
+fn fast(case: &Case, state: &mut State) -> FastDem {
+    FastDem::new(case, state).expect("fast DEM")
+}
+
+fn reference(case: &Case, state: &mut State) -> ReferenceDem {
+    ReferenceDem::new(case, state).expect("reference DEM")
+}
+
+/// Particle sub-steps per second over `steps` outer steps (after one warm-up step), on
+/// `threads` threads.
+fn rate(case: &Case, solver: &mut dyn Solver, steps: usize, threads: usize) -> f64 {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+    pool.install(|| {
+        solver.step().expect("step");
+        let (started, mut work) = (Instant::now(), 0.0);
+        for _ in 0..steps {
+            let report = solver.step().expect("step");
+            let substeps = report.values.iter().find(|v| v.0 == "substeps").map_or(0.0, |v| v.1);
+            work += substeps * solver.state().particles.as_ref().map_or(0, |p| p.particles.len()) as f64;
+        }
+        let _ = case;
+        work / started.elapsed().as_secs_f64()
+    })
+}
+
+fn rates() {
+    let mut json = Vec::new();
+    for (name, steps, reference_steps) in [("settle_box_10k.toml", 8, 2), ("settle_box_100k.toml", 3, 0)] {
+        let case = bed(name);
+        let fast_1 = rate(&case, &mut run(&case, fast), steps, 1);
+        let fast_2 = rate(&case, &mut run(&case, fast), steps, 2);
+        let reference_1 = if reference_steps > 0 { rate(&case, &mut run(&case, reference), reference_steps, 1) } else { f64::NAN };
+        println!(
+            "{name}: fast {fast_1:.3e} particle-steps/s on 1 thread, {fast_2:.3e} on 2 ({:.2}x); reference {reference_1:.3e} on 1 (fast/reference {:.1}x)",
+            fast_2 / fast_1,
+            fast_1 / reference_1
+        );
+        let number = |x: f64| if x.is_finite() { format!("{x}") } else { "null".to_string() };
+        json.push(format!(
+            "{{\"case\": \"{name}\", \"fast_1_thread\": {fast_1}, \"fast_2_threads\": {fast_2}, \"reference_1_thread\": {}, \"fast_over_reference\": {}, \"two_over_one_thread\": {}}}",
+            number(reference_1),
+            number(fast_1 / reference_1),
+            fast_2 / fast_1
+        ));
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
+    let _ = std::fs::create_dir_all(&dir);
+    let _ = std::fs::write(dir.join("dem_settle.json"), format!("[{}]\n", json.join(",\n")));
+}
+
+fn bench(c: &mut Criterion) {
+    let case = bed("settle_box_10k.toml");
+    let mut group = c.benchmark_group("dem_settle");
+    group.sample_size(10);
+    let mut fast_run = run(&case, fast);
+    group.bench_function("10k spheres, fast DEM, one outer step (50 sub-steps)", |b| b.iter(|| fast_run.step().expect("step")));
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+
+fn main() {
+    rates();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -1,0 +1,302 @@
+//! The fast DEM: the reference's soft-sphere model (Hertz–Mindlin–Tsuji contacts, triangle-mesh
+//! walls, velocity-Verlet sub-steps; fluid-dem-model.md §5.7–§5.10, §7), engineered for speed
+//! and held to the same bits:
+//!
+//! * particles as struct-of-arrays in cell order ([`arrays`]), re-sorted every outer step;
+//! * a half neighbour list with a skin over a sorted cell list, contact histories in its
+//!   slots ([`neighbour_list`]);
+//! * pair forces evaluated in parallel into the slots and summed per particle in the
+//!   reference's order ([`pair_forces`]);
+//! * wall contacts per particle against each wall's bounding-volume hierarchy in its body
+//!   frame, the near triangles kept while the particle stays within the skin
+//!   ([`wall_forces`]);
+//! * the sub-step halves per particle in parallel ([`integrate`]).
+//!
+//! Every sum whose order could depend on the threads is taken in a fixed order, so a run gives
+//! the same bits on any number of threads.
+
+pub mod arrays;
+pub mod integrate;
+pub mod neighbour_list;
+pub mod pair_forces;
+pub mod wall_forces;
+
+use rayon::prelude::*;
+
+use spillage_model::case::Case;
+use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::particles::dem_setup::{wall_meshes, DemSetup};
+use spillage_model::particles::guards::{EnergyBudget, Fault};
+use spillage_model::particles::substeps::substeps_for;
+use spillage_model::particles::{ContactRecord, ImpactRecord, ParticleState, Partner};
+use spillage_model::solver::{SolverError, StepReport};
+use spillage_model::state::State;
+use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
+use spillage_model::walls::geometry::WallMesh;
+use spillage_model::walls::state::{WallFrame, WallState};
+
+use arrays::ParticleArrays;
+use integrate::{half_step, Half, StepSums};
+use neighbour_list::{History, NeighbourList};
+use pair_forces::{evaluate_pairs, first_fault, gather, PairContext};
+use wall_forces::{evaluate_walls, WallContext, WallSide};
+
+/// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
+/// are listed, and the list lasts until a particle has moved half of it (a tenth of a diameter
+/// keeps the list short in a dense bed and lasts ≈ 50 sub-steps of a 2 m/s rock at the
+/// cutter head's sub-step).
+const SKIN_FRACTION: f64 = 0.1;
+
+fn unsupported(what: impl Into<String>) -> SolverError {
+    SolverError::Unsupported(what.into())
+}
+
+/// The fast DEM: a particle phase of the step driver ([`spillage_model::step::Coupled`]).
+pub struct FastDem {
+    setup: DemSetup,
+    wall_meshes: Vec<WallMesh>,
+    /// The wall revision each mesh was built from, and how often it was rebuilt.
+    mesh_revisions: Vec<u64>,
+    mesh_generations: Vec<u64>,
+    arrays: ParticleArrays,
+    list: NeighbourList,
+    /// Each particle's wall contacts, in internal order.
+    wall_sides: Vec<WallSide>,
+    frames: Vec<WallFrame>,
+    sums: StepSums,
+    budget: EnergyBudget,
+    /// The first id of the particles fed in the current step.
+    fed_from: u64,
+}
+
+/// What the contacts of one sub-step add up to.
+#[derive(Default)]
+struct ContactTotals {
+    contacts: usize,
+    max_overlap_ratio: f64,
+    elastic: f64,
+    placed: f64,
+    wall_power: f64,
+}
+
+impl FastDem {
+    /// Sets up the DEM for `case`; missing particle or wall states in `state` are built from the
+    /// case (as [`DemSetup::new`] does for both particle phases).
+    pub fn new(case: &Case, state: &mut State) -> Result<Self, SolverError> {
+        let setup = DemSetup::new(case, state).map_err(unsupported)?;
+        let walls = state.walls.as_ref().expect("the setup builds the walls");
+        Ok(Self {
+            wall_meshes: wall_meshes(walls).map_err(unsupported)?,
+            mesh_revisions: walls.walls.iter().map(|w| w.revision).collect(),
+            mesh_generations: vec![1; walls.walls.len()],
+            arrays: ParticleArrays::default(),
+            list: NeighbourList::default(),
+            wall_sides: Vec::new(),
+            frames: Vec::new(),
+            sums: StepSums::default(),
+            budget: EnergyBudget::default(),
+            fed_from: state.particles.as_ref().map_or(0, |p| p.next_id),
+            setup,
+        })
+    }
+
+    /// Neighbour-list builds so far (a run's summary reports them).
+    pub fn neighbour_list_builds(&self) -> u64 {
+        self.list.builds
+    }
+
+    /// Rebuilds the collision mesh of every wall that moved its vertices (a receding wall,
+    /// wear-model.md §7.4); the particles' near triangles of that wall are found again.
+    fn refresh_wall_meshes(&mut self, walls: &WallState) -> Result<(), SolverError> {
+        for (i, w) in walls.walls.iter().enumerate() {
+            if self.mesh_revisions[i] != w.revision {
+                self.wall_meshes[i] = WallMesh::new(&w.vertices, &w.triangles).map_err(|m| unsupported(format!("worn wall `{}`: {m}", w.name)))?;
+                self.mesh_revisions[i] = w.revision;
+                self.mesh_generations[i] += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Loads the particles and their contact histories from the state (cell order).
+    fn load(&mut self, particles: &ParticleState) {
+        let d_max = particles.particles.iter().map(|p| p.diameter).fold(0.0, f64::max);
+        self.list.skin = SKIN_FRACTION * d_max;
+        self.arrays.load(&particles.particles, d_max + self.list.skin);
+        self.list.build(&self.arrays, &self.setup.materials, History::Records(&particles.contacts));
+        let n = self.arrays.len();
+        self.wall_sides.clear();
+        self.wall_sides.resize_with(n, WallSide::default);
+        let records = &particles.contacts;
+        for (k, side) in self.wall_sides.iter_mut().enumerate() {
+            let id = self.arrays.id[k];
+            let start = records.partition_point(|r| (r.particle, r.partner) < (id, Partner::Wall(0)));
+            side.history.extend(records[start..].iter().take_while(|r| r.particle == id).cloned());
+        }
+        self.sums.reset(n);
+    }
+
+    /// The contact history in the state's form: sorted by (particle, partner), a wall's
+    /// records in the order they were found.
+    fn store_history(&self, particles: &mut ParticleState) {
+        let pairs = self.list.slots.iter().filter_map(|s| s.record.clone());
+        let walls = self.wall_sides.iter().flat_map(|s| s.history.iter().cloned());
+        let mut records: Vec<ContactRecord> = pairs.chain(walls).collect();
+        records.sort_by(|x, y| (x.particle, x.partner).cmp(&(y.particle, y.partner)));
+        particles.contacts = records;
+    }
+
+    /// Contact forces and torques at the current positions (§7.8); the first fault, if any;
+    /// the pair contacts' totals only when `totals_needed`, the walls' always.
+    fn evaluate_contacts(
+        &mut self,
+        walls: &WallState,
+        time: f64,
+        dt: f64,
+        totals_needed: bool,
+        impacts: &mut Vec<ImpactRecord>,
+    ) -> (ContactTotals, Option<Fault>) {
+        if self.list.is_stale(&self.arrays) {
+            self.list.build(&self.arrays, &self.setup.materials, History::Previous);
+        }
+        let pair_context = PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from };
+        evaluate_pairs(&mut self.list, &self.arrays, &pair_context);
+        self.frames.clear();
+        self.frames.extend(walls.walls.iter().map(|w| w.frame()));
+        let wall_context = WallContext {
+            materials: &self.setup.materials,
+            wet_fluid: self.setup.wet_fluid,
+            walls: &walls.walls,
+            meshes: &self.wall_meshes,
+            frames: &self.frames,
+            generations: &self.mesh_generations,
+            skin: self.list.skin,
+            time,
+            dt,
+            fed_from: self.fed_from,
+        };
+        let (list, arrays) = (&self.list, &mut self.arrays);
+        let mut forces = std::mem::take(&mut arrays.force);
+        let mut torques = std::mem::take(&mut arrays.torque);
+        let mut counts = std::mem::take(&mut arrays.contacts);
+        (&mut forces, &mut torques, &mut counts, &mut self.wall_sides).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c, side))| {
+            let (mut force, mut torque, pairs) = gather(list, k);
+            evaluate_walls(k, arrays, &wall_context, side, &mut force, &mut torque);
+            (*f, *t, *c) = (force, torque, pairs + side.contacts);
+        });
+        (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
+
+        // the pair totals feed the energy guard at the step's end and, while fed particles
+        // make their first contacts, at every sub-step
+        let mut totals = ContactTotals::default();
+        if totals_needed {
+            for s in self.list.slots.iter().filter(|s| s.touching) {
+                totals.contacts += 1;
+                totals.max_overlap_ratio = totals.max_overlap_ratio.max(s.overlap / self.arrays.radius[s.a as usize]);
+                totals.elastic += s.elastic;
+                totals.placed += s.placed;
+            }
+        }
+        let pair_fault = self.list.slots.par_iter().with_min_len(4096).any(|s| s.fault);
+        let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
+        let mut wall_fault: Option<(u64, Fault)> = None;
+        let first_impact = impacts.len();
+        for (k, side) in self.wall_sides.iter().enumerate() {
+            totals.contacts += side.contacts as usize;
+            totals.max_overlap_ratio = totals.max_overlap_ratio.max(side.max_overlap_ratio);
+            totals.elastic += side.elastic;
+            totals.placed += side.placed;
+            totals.wall_power += side.power;
+            if let Some(f) = &side.fault {
+                let id = self.arrays.id[k];
+                if wall_fault.as_ref().is_none_or(|(first, _)| id < *first) {
+                    wall_fault = Some((id, f.clone()));
+                }
+            }
+            impacts.extend(side.impacts.iter().cloned());
+        }
+        if fault.is_none() {
+            fault = wall_fault.map(|(_, f)| f);
+        }
+        // the reference logs a sub-step's impacts particle by particle in id order
+        impacts[first_impact..].sort_by_key(|i| i.particle);
+        (totals, fault)
+    }
+}
+
+impl ParticlePhase for FastDem {
+    fn name(&self) -> &'static str {
+        "fast"
+    }
+
+    /// One outer step in DEM sub-steps of equal length, as the reference takes it
+    /// (`ReferenceDem::advance`): the same sub-step count, the same guards and report.
+    fn advance(
+        &mut self,
+        ctx: &StepContext,
+        particles: &mut ParticleState,
+        walls: &mut WallState,
+        fluid: &[Option<FluidAtParticle>],
+        report: &mut StepReport,
+    ) -> Result<Option<ParticleLoad>, SolverError> {
+        self.refresh_wall_meshes(walls)?;
+        let elastic_start = particles.contacts.is_empty().then_some(0.0);
+        let n = substeps_for(&self.setup.section, &self.setup.materials, ctx.dt, &particles.particles, walls);
+        let dt_s = ctx.dt / n as f64;
+        if fluid.len() != particles.particles.len() {
+            return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
+        }
+        self.budget.start_step(&particles.particles);
+        self.load(particles);
+        let mut totals = ContactTotals::default();
+        let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
+        let mut impacts = std::mem::take(&mut particles.impacts);
+        let logged_before = impacts.len();
+        for k in 0..n {
+            let elapsed = (k + 1) as f64 * dt_s;
+            // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose)
+            let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
+            self.budget.external += half_step(Half::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s);
+            walls.place(end_time, rotor_end.as_ref());
+            let (sub, fault) = self.evaluate_contacts(walls, end_time, dt_s, feeding || k + 1 == n, &mut impacts);
+            self.budget.walls += dt_s * sub.wall_power;
+            self.budget.placed += sub.placed;
+            if let Some(fault) = fault {
+                self.arrays.store(&mut particles.particles);
+                particles.impacts = impacts;
+                return Err(SolverError::Diverged {
+                    step: ctx.step,
+                    time: end_time,
+                    what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1),
+                });
+            }
+            self.budget.external += half_step(Half::Second, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s);
+            totals = sub;
+        }
+        self.arrays.store(&mut particles.particles);
+        particles.counts.impacts += (impacts.len() - logged_before) as u64;
+        particles.impacts = impacts;
+        self.budget.check(ctx, &particles.particles, totals.elastic, elastic_start, self.setup.section.collision_speed)?;
+        self.fed_from = particles.next_id;
+        self.store_history(particles);
+        report.values.extend([
+            ("substeps", n as f64),
+            ("contacts", totals.contacts as f64),
+            ("particle_kinetic_energy", particles.particles.iter().map(|p| p.kinetic_energy()).sum()),
+            ("max_overlap_ratio", totals.max_overlap_ratio),
+        ]);
+        if self.setup.forces.feedback.is_none() {
+            return Ok(None);
+        }
+        let mut load = ParticleLoad::zeros(particles.particles.len());
+        for (k, share) in self.sums.load.iter().enumerate() {
+            let i = self.arrays.state_index[k];
+            load.implicit_drag[i] = share.implicit_drag;
+            load.explicit_force[i] = share.explicit_force.into();
+            load.drag[i] = share.drag.into();
+            load.slip_reynolds[i] = share.slip_reynolds;
+        }
+        load.time_average(&particles.particles, ctx.dt);
+        Ok(Some(load))
+    }
+}

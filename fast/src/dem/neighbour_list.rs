@@ -1,0 +1,202 @@
+//! The pairs that may touch: a half neighbour list with a skin, found over a sorted cell
+//! list, with each pair's contact history kept in its slot (a flat table, no map lookups in
+//! the sub-steps).
+//!
+//! A pair is listed when its gap is below the skin at the build; it is rebuilt once some
+//! particle has moved more than half the skin, so no pair can come into contact unlisted.
+//! Cells are as wide as the largest diameter plus the skin, so listed pairs lie in the same or
+//! an adjacent cell whatever the size distribution.
+
+use rayon::prelude::*;
+
+use spillage_model::closure::contact::PairConstants;
+use spillage_model::particles::materials::MaterialTable;
+use spillage_model::particles::state::Vec3;
+use spillage_model::particles::{ContactRecord, Partner};
+
+use super::arrays::{Grid, ParticleArrays};
+
+/// One listed pair and what its last evaluation found. `a` has the smaller id (the side the
+/// history is kept on, as in the reference).
+#[derive(Clone, Debug)]
+pub struct PairSlot {
+    pub a: u32,
+    pub b: u32,
+    pub constants: PairConstants,
+    /// The contact's history; `Some` while the pair touches.
+    pub record: Option<ContactRecord>,
+    /// Outputs of the last evaluation: force on a, torques on a and b (a's force is
+    /// `force`, b's is `−force`).
+    pub touching: bool,
+    pub force: Vec3,
+    pub torque_a: Vec3,
+    pub torque_b: Vec3,
+    pub overlap: f64,
+    /// Stored elastic energy, and the part of a first touch of a fed particle [J].
+    pub elastic: f64,
+    pub placed: f64,
+    /// The evaluation found a fault ([`spillage_model::particles::guards::pair_fault`]).
+    pub fault: bool,
+}
+
+/// Where a new list takes the histories of its pairs from.
+#[derive(Clone, Copy)]
+pub enum History<'a> {
+    /// The state's records (sorted by particle id, then partner).
+    Records(&'a [ContactRecord]),
+    /// The previous list (same internal particle order).
+    Previous,
+}
+
+#[derive(Default)]
+pub struct NeighbourList {
+    /// Gap below which a pair is listed [m].
+    pub skin: f64,
+    pub slots: Vec<PairSlot>,
+    /// Slots of the pairs whose lower internal index is k: `first[k]..first[k + 1]`.
+    first: Vec<usize>,
+    /// Each particle's slots in ascending partner id (the reference's order of summation):
+    /// `(slot, particle is the pair's a)`.
+    pub adjacency: Vec<(u32, bool)>,
+    pub adjacency_start: Vec<usize>,
+    /// Positions at the last build.
+    built_at: Vec<Vec3>,
+    previous_slots: Vec<PairSlot>,
+    previous_first: Vec<usize>,
+    /// (cell key, internal index), sorted.
+    sorted_cells: Vec<(u64, u32)>,
+    /// Builds so far (for the run summary).
+    pub builds: u64,
+}
+
+impl NeighbourList {
+    /// True when some particle moved more than half the skin since the last build (or the
+    /// list was never built for these particles).
+    pub fn is_stale(&self, arrays: &ParticleArrays) -> bool {
+        if self.built_at.len() != arrays.len() {
+            return true;
+        }
+        let half = 0.5 * self.skin;
+        arrays.position.par_iter().zip(&self.built_at).with_min_len(1024).any(|(x, x0)| !((x - x0).norm() <= half))
+    }
+
+    /// Lists every pair with a gap below the skin at the current positions.
+    pub fn build(&mut self, arrays: &ParticleArrays, materials: &MaterialTable, history: History) {
+        self.builds += 1;
+        let n = arrays.len();
+        let d_max = arrays.diameter.iter().copied().fold(0.0, f64::max);
+        let grid = Grid::spanning(arrays.position.iter().copied(), d_max + self.skin);
+        self.sorted_cells.clear();
+        self.sorted_cells.extend(arrays.position.iter().enumerate().map(|(k, p)| (grid.key(grid.cell_of(*p)), k as u32)));
+        self.sorted_cells.sort_unstable();
+
+        std::mem::swap(&mut self.slots, &mut self.previous_slots);
+        std::mem::swap(&mut self.first, &mut self.previous_first);
+        let (cells, skin) = (&self.sorted_cells, self.skin);
+        let (previous_slots, previous_first) = (&self.previous_slots, &self.previous_first);
+        let mut counts: Vec<usize> = (0..n)
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|k| {
+                let mut count = 0;
+                for_each_partner(&grid, cells, arrays, skin, k, |_| count += 1);
+                count
+            })
+            .collect();
+        self.first.clear();
+        self.first.push(0);
+        for c in counts.drain(..) {
+            let last = *self.first.last().expect("starts with 0");
+            self.first.push(last + c);
+        }
+        self.slots.clear();
+        self.slots.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
+            let mut found = Vec::new();
+            for_each_partner(&grid, cells, arrays, skin, k, |j| found.push(j));
+            found.into_iter().map(move |j| {
+                let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
+                let record = match history {
+                    History::Records(records) => {
+                        let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
+                        records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok().map(|i| records[i].clone())
+                    }
+                    History::Previous if previous_first.len() == n + 1 => previous_slots[previous_first[k]..previous_first[k + 1]]
+                        .iter()
+                        .find(|s| s.a as usize == a && s.b as usize == b)
+                        .and_then(|s| s.record.clone()),
+                    History::Previous => None,
+                };
+                PairSlot {
+                    a: a as u32,
+                    b: b as u32,
+                    constants: materials.constants(arrays.material[a], arrays.material[b], arrays.radius[a], arrays.radius[b], arrays.mass[a], arrays.mass[b]),
+                    touching: record.is_some(),
+                    record,
+                    force: Vec3::zeros(),
+                    torque_a: Vec3::zeros(),
+                    torque_b: Vec3::zeros(),
+                    overlap: 0.0,
+                    elastic: 0.0,
+                    placed: 0.0,
+                    fault: false,
+                }
+            })
+        }));
+        debug_assert_eq!(self.slots.len(), *self.first.last().unwrap_or(&0));
+        self.build_adjacency(arrays);
+        self.built_at.clear();
+        self.built_at.extend_from_slice(&arrays.position);
+    }
+
+    fn build_adjacency(&mut self, arrays: &ParticleArrays) {
+        let n = arrays.len();
+        self.adjacency_start.clear();
+        self.adjacency_start.resize(n + 1, 0);
+        for s in &self.slots {
+            self.adjacency_start[s.a as usize + 1] += 1;
+            self.adjacency_start[s.b as usize + 1] += 1;
+        }
+        for k in 0..n {
+            self.adjacency_start[k + 1] += self.adjacency_start[k];
+        }
+        self.adjacency.clear();
+        self.adjacency.resize(self.adjacency_start[n], (0, false));
+        let mut next = self.adjacency_start.clone();
+        for (i, s) in self.slots.iter().enumerate() {
+            for (k, is_a) in [(s.a as usize, true), (s.b as usize, false)] {
+                self.adjacency[next[k]] = (i as u32, is_a);
+                next[k] += 1;
+            }
+        }
+        let slots = &self.slots;
+        let partner = |&(slot, is_a): &(u32, bool)| {
+            let s = &slots[slot as usize];
+            arrays.id[if is_a { s.b } else { s.a } as usize]
+        };
+        for k in 0..n {
+            self.adjacency[self.adjacency_start[k]..self.adjacency_start[k + 1]].sort_unstable_by_key(partner);
+        }
+    }
+}
+
+/// Calls `found(j)` for every particle j > k (internal order) whose gap to k is below `skin`.
+fn for_each_partner(grid: &Grid, cells: &[(u64, u32)], arrays: &ParticleArrays, skin: f64, k: usize, mut found: impl FnMut(usize)) {
+    let (x, r) = (arrays.position[k], arrays.radius[k]);
+    let [cx, cy, cz] = grid.cell_of(x);
+    for z in cz - 1..=cz + 1 {
+        for y in cy - 1..=cy + 1 {
+            // the three cells x − 1 … x + 1 of this row are one range of keys
+            let (lo, hi) = (grid.key([cx - 1, y, z]), grid.key([cx + 1, y, z]));
+            let start = cells.partition_point(|c| c.0 < lo);
+            for &(key, j) in &cells[start..] {
+                if key > hi {
+                    break;
+                }
+                let j = j as usize;
+                if j > k && (arrays.position[j] - x).norm() < r + arrays.radius[j] + skin {
+                    found(j);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,163 @@
+//! Particle–wall contacts of one sub-step (fluid-dem-model.md §7.4, §7.8), per particle in
+//! parallel. Each particle keeps, per wall, the triangles near it in the wall's body frame
+//! (from the wall's bounding-volume hierarchy: closer than its radius plus the neighbour list's
+//! skin) and queries the hierarchy again only when it has moved more than the skin relative to
+//! the wall; the
+//! contacts among those triangles are exactly those of the whole mesh
+//! ([`WallMesh::sphere_contacts_among`]).
+
+use std::cell::RefCell;
+
+use spillage_model::closure::contact::hertz_mindlin_force;
+use spillage_model::particles::first_touch::{continued_wall_contact, impact, wall_record};
+use spillage_model::particles::guards::{wall_fault, Fault, MAX_OVERLAP_RATIO};
+use spillage_model::particles::materials::MaterialTable;
+use spillage_model::particles::state::Vec3;
+use spillage_model::particles::{ContactRecord, ImpactRecord, Partner};
+use spillage_model::walls::geometry::{ContactScratch, WallMesh};
+use spillage_model::walls::state::{Wall, WallFrame};
+
+use super::arrays::ParticleArrays;
+
+/// The triangles of one wall near one particle.
+#[derive(Clone, Debug, Default)]
+pub struct NearTriangles {
+    /// Body-frame centre of the particle when they were found.
+    centre: Vec3,
+    /// The wall mesh generation they were found in (0: never).
+    generation: u64,
+    /// Body-frame centre of the particle at this sub-step.
+    body: Vec3,
+    triangles: Vec<u32>,
+}
+
+/// One particle's side of its wall contacts: what persists (near triangles, contact history)
+/// and what the last evaluation found.
+#[derive(Clone, Debug, Default)]
+pub struct WallSide {
+    near: Vec<NearTriangles>,
+    /// The contact history with every wall, in the reference's order (wall, then contact).
+    pub history: Vec<ContactRecord>,
+    /// Impacts of contacts that began at the last evaluation.
+    pub impacts: Vec<ImpactRecord>,
+    pub power: f64,
+    pub elastic: f64,
+    pub placed: f64,
+    pub contacts: u32,
+    pub max_overlap_ratio: f64,
+    pub fault: Option<Fault>,
+}
+
+/// What the wall evaluation reads besides the particles.
+pub struct WallContext<'a> {
+    pub materials: &'a MaterialTable,
+    pub wet_fluid: Option<(f64, f64)>,
+    pub walls: &'a [Wall],
+    pub meshes: &'a [WallMesh],
+    /// Each wall's frame at the end of the sub-step.
+    pub frames: &'a [WallFrame],
+    /// Each mesh's generation (bumped when a worn wall's mesh is rebuilt).
+    pub generations: &'a [u64],
+    pub skin: f64,
+    pub time: f64,
+    pub dt: f64,
+    pub fed_from: u64,
+}
+
+/// Per-thread work buffers (reused across sub-steps: nothing is allocated once they grew).
+#[derive(Default)]
+struct Scratch {
+    contacts: ContactScratch,
+    old_history: Vec<ContactRecord>,
+    previous: Vec<ContactRecord>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
+
+/// Evaluates particle `k`'s wall contacts into `side`, adding their force and torque to
+/// `force` and `torque` (in the reference's order: wall by wall, contact by contact).
+pub fn evaluate_walls(k: usize, arrays: &ParticleArrays, context: &WallContext, side: &mut WallSide, force: &mut Vec3, torque: &mut Vec3) {
+    side.impacts.clear();
+    (side.power, side.elastic, side.placed, side.contacts, side.max_overlap_ratio, side.fault) = (0.0, 0.0, 0.0, 0, 0.0, None);
+    if side.near.len() != context.walls.len() {
+        side.near.resize(context.walls.len(), NearTriangles::default());
+    }
+    if context.walls.is_empty() {
+        return;
+    }
+    let (id, r, x) = (arrays.id[k], arrays.radius[k], arrays.position[k]);
+    let fed = id >= context.fed_from;
+    // most particles are far from every wall: find that out without touching the buffers
+    let mut near_any = false;
+    for (w, (near, mesh)) in side.near.iter_mut().zip(context.meshes).enumerate() {
+        near.body = context.frames[w].to_body(x);
+        if near.generation != context.generations[w] || !((near.body - near.centre).norm() <= context.skin) {
+            mesh.triangles_within(near.body, r + context.skin, &mut near.triangles);
+            (near.centre, near.generation) = (near.body, context.generations[w]);
+        }
+        near_any |= !near.triangles.is_empty();
+    }
+    if !near_any {
+        side.history.clear();
+        return;
+    }
+    SCRATCH.with(|scratch| {
+        let scratch = &mut *scratch.borrow_mut();
+        std::mem::swap(&mut side.history, &mut scratch.old_history);
+        side.history.clear();
+        for (w, (wall, mesh)) in context.walls.iter().zip(context.meshes).enumerate() {
+            let frame = &context.frames[w];
+            let near = &side.near[w];
+            let body = near.body;
+            if near.triangles.is_empty() {
+                continue;
+            }
+            mesh.sphere_contacts_among(&near.triangles, body, r, &mut scratch.contacts);
+            scratch.previous.clear();
+            scratch.previous.extend(scratch.old_history.iter().filter(|h| h.partner == Partner::Wall(w as u32)).cloned());
+            for contact in &scratch.contacts.accepted {
+                let point = frame.to_world(contact.point);
+                let overlap = r - contact.distance;
+                if contact.distance <= 1e-12 * r || (overlap > MAX_OVERLAP_RATIO * r && !fed) {
+                    let fault = wall_fault(&arrays.particle(k), w as u32, contact.distance, overlap, fed);
+                    let on_wall = matches!(fault, Some(Fault::CentreOnWall { .. }));
+                    if side.fault.is_none() {
+                        side.fault = fault;
+                    }
+                    if on_wall {
+                        continue;
+                    }
+                }
+                let normal = (point - x) / contact.distance;
+                let wall_velocity = wall.surface_velocity(point);
+                let v_rel = arrays.velocity[k] + arrays.spin[k].cross(&(r * normal)) - wall_velocity;
+                let matched = continued_wall_contact(&scratch.previous, &normal);
+                let new_contact = matched.is_none();
+                let mut record = match matched {
+                    Some(m) => scratch.previous.remove(m),
+                    None => {
+                        let p = arrays.particle(k);
+                        side.impacts.push(impact(&p, w as u32, contact, body, wall_velocity, normal, context.time));
+                        wall_record(context.materials, context.wet_fluid, &p, w as u32, wall.material, normal, v_rel, context.time)
+                    }
+                };
+                let constants = context.materials.constants(arrays.material[k], wall.material, r, f64::INFINITY, arrays.mass[k], f64::INFINITY);
+                let f = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
+                record.normal = normal;
+                let elastic = 0.4 * f.normal.norm() * overlap;
+                side.elastic += elastic;
+                if new_contact && fed {
+                    side.placed += elastic;
+                }
+                side.power += (f.normal + f.tangential).dot(&wall_velocity);
+                *force += f.normal + f.tangential;
+                *torque += (r * normal).cross(&f.tangential);
+                side.contacts += 1;
+                side.max_overlap_ratio = side.max_overlap_ratio.max(overlap / r);
+                side.history.push(record);
+            }
+        }
+    });
+}

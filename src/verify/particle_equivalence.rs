@@ -1,0 +1,121 @@
+//! Fast vs reference DEM, step by step (issue 19): a case runs with each particle phase, the
+//! same fluid phase (the fast one, bit-deterministic) and the same wear phase, from the same
+//! initial state; after every step the whole states are compared field by field
+//! ([`spillage_model::state_diff`]): particle positions, velocities, spins, contact forces,
+//! the contact histories (same contacts, same tangential springs), the impact log and the
+//! fluid the particles load. Contact records and impacts must match one for one: a missing or
+//! extra contact is a structural difference, never "close".
+
+use anyhow::{bail, Context, Result};
+use spillage_fast::dem::FastDem;
+use spillage_fast::fluid::FastFluid;
+use spillage_model::case::Case;
+use spillage_model::solver::{Solver, SolverError};
+use spillage_model::state::State;
+use spillage_model::state_diff::diff;
+use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
+use spillage_reference::dem::ReferenceDem;
+use spillage_reference::wear::ReferenceWear;
+
+/// Agreement required after every step (issue 19): positions and velocities to 1e-10 of
+/// their scale. Both phases evaluate every contact with the same model functions in the same
+/// order, so they agree to the bit unless a sum is reordered; 1e-10 leaves room for
+/// reordered sums (1e-16 each) growing through ~100 sub-steps of contacts.
+pub const PARTICLE_TOLERANCE: f64 = 1e-10;
+
+/// DEM sub-steps compared at least per case (issue 19).
+pub const MIN_SUBSTEPS: u64 = 100;
+
+/// What a step-by-step comparison of the particle phases found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParticleEquivalence {
+    pub steps: u64,
+    pub substeps: u64,
+    /// Largest scale-relative difference over fields and steps, its field and step.
+    pub worst: f64,
+    pub worst_field: String,
+    pub worst_step: u64,
+    /// Wall-clock seconds of each run's steps (measured, reported, never asserted).
+    pub reference_seconds: f64,
+    pub fast_seconds: f64,
+}
+
+impl ParticleEquivalence {
+    /// The row of `spillage verify`: the largest per-step difference against
+    /// [`PARTICLE_TOLERANCE`].
+    pub fn row(&self, case: &str) -> super::CheckRow {
+        let quantity = format!("fast vs reference DEM: largest per-step difference over {} steps ({} sub-steps)", self.steps, self.substeps);
+        super::CheckRow::at_most(case, quantity, "fast vs reference", self.worst, PARTICLE_TOLERANCE)
+    }
+}
+
+type MakeDem = fn(&Case, &mut State) -> Result<Box<dyn ParticlePhase>, SolverError>;
+
+fn reference_dem(case: &Case, state: &mut State) -> Result<Box<dyn ParticlePhase>, SolverError> {
+    Ok(Box::new(ReferenceDem::new(case, state)?))
+}
+
+fn fast_dem(case: &Case, state: &mut State) -> Result<Box<dyn ParticlePhase>, SolverError> {
+    Ok(Box::new(FastDem::new(case, state)?))
+}
+
+/// A run of `case` with the fast fluid (if it has one), the `make` DEM and the reference wear
+/// (if it has `[wear]`).
+fn run_with(case: &Case, make: MakeDem) -> Result<Box<dyn Solver>> {
+    let mut state = State::default();
+    let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, spillage_model::mesh::for_case(case)) {
+        (Some(_), Some(mesh)) => Some(Box::new(FastFluid::new(case, mesh.map_err(|e| anyhow::anyhow!("{e}"))?, &mut state)?)),
+        (Some(_), None) => bail!("a case with [fluid] needs a [mesh]"),
+        (None, _) => None,
+    };
+    let dem = make(case, &mut state)?;
+    let wear = match case.wear {
+        Some(_) => Some(ReferenceWear::new(case, &mut state)?),
+        None => None,
+    };
+    let run = Coupled::new(case, state, fluid, Some(dem))?;
+    Ok(match wear {
+        Some(wear) => Box::new(run.with_wear(Box::new(wear))?),
+        None => Box::new(run),
+    })
+}
+
+/// The fast DEM's run of `case` (fast fluid, reference wear), for the thread-count check.
+pub fn fast_run(case: &Case) -> Result<Box<dyn Solver>> {
+    run_with(case, fast_dem)
+}
+
+/// Runs `case` with both particle phases until both have taken `min_substeps` DEM sub-steps
+/// (at most `max_steps` steps), comparing after every step.
+pub fn compare_particle_phases(case: &Case, min_substeps: u64, max_steps: u64) -> Result<ParticleEquivalence> {
+    let mut reference = run_with(case, reference_dem)?;
+    let mut fast = run_with(case, fast_dem)?;
+    let mut out =
+        ParticleEquivalence { steps: 0, substeps: 0, worst: 0.0, worst_field: String::new(), worst_step: 0, reference_seconds: 0.0, fast_seconds: 0.0 };
+    while out.substeps < min_substeps && out.steps < max_steps {
+        let step = out.steps + 1;
+        let started = std::time::Instant::now();
+        let r = reference.step().with_context(|| format!("{}: reference DEM, step {step}", case.case.name))?;
+        out.reference_seconds += started.elapsed().as_secs_f64();
+        let started = std::time::Instant::now();
+        let f = fast.step().with_context(|| format!("{}: fast DEM, step {step}", case.case.name))?;
+        out.fast_seconds += started.elapsed().as_secs_f64();
+        if r.values.iter().map(|v| v.0).ne(f.values.iter().map(|v| v.0)) {
+            bail!("{}: step {step}: the step reports name different quantities", case.case.name);
+        }
+        let d = diff(reference.state(), fast.state());
+        if !d.mismatches.is_empty() {
+            bail!("{}: step {step}: the fast and reference DEM states differ in structure (contacts or impacts):\n{}", case.case.name, d.report());
+        }
+        for (name, field) in &d.fields {
+            if field.max_rel_to_scale > out.worst || out.worst_field.is_empty() {
+                out.worst = out.worst.max(field.max_rel_to_scale);
+                out.worst_field = name.clone();
+                out.worst_step = step;
+            }
+        }
+        out.steps = step;
+        out.substeps += r.values.iter().find(|v| v.0 == "substeps").map_or(0, |v| v.1 as u64);
+    }
+    Ok(out)
+}
