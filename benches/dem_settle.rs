@@ -39,7 +39,7 @@ fn reference(case: &Case, state: &mut State) -> ReferenceDem {
 
 /// Particle sub-steps per second over `steps` outer steps (after one warm-up step), on
 /// `threads` threads.
-fn rate(case: &Case, solver: &mut dyn Solver, steps: usize, threads: usize) -> f64 {
+fn rate<S: Solver + Send>(solver: &mut S, steps: usize, threads: usize) -> f64 {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
     pool.install(|| {
         solver.step().expect("step");
@@ -49,7 +49,6 @@ fn rate(case: &Case, solver: &mut dyn Solver, steps: usize, threads: usize) -> f
             let substeps = report.values.iter().find(|v| v.0 == "substeps").map_or(0.0, |v| v.1);
             work += substeps * solver.state().particles.as_ref().map_or(0, |p| p.particles.len()) as f64;
         }
-        let _ = case;
         work / started.elapsed().as_secs_f64()
     })
 }
@@ -58,9 +57,9 @@ fn rates() {
     let mut json = Vec::new();
     for (name, steps, reference_steps) in [("settle_box_10k.toml", 8, 2), ("settle_box_100k.toml", 3, 0)] {
         let case = bed(name);
-        let fast_1 = rate(&case, &mut run(&case, fast), steps, 1);
-        let fast_2 = rate(&case, &mut run(&case, fast), steps, 2);
-        let reference_1 = if reference_steps > 0 { rate(&case, &mut run(&case, reference), reference_steps, 1) } else { f64::NAN };
+        let fast_1 = rate(&mut run(&case, fast), steps, 1);
+        let fast_2 = rate(&mut run(&case, fast), steps, 2);
+        let reference_1 = if reference_steps > 0 { rate(&mut run(&case, reference), reference_steps, 1) } else { f64::NAN };
         println!(
             "{name}: fast {fast_1:.3e} particle-steps/s on 1 thread, {fast_2:.3e} on 2 ({:.2}x); reference {reference_1:.3e} on 1 (fast/reference {:.1}x)",
             fast_2 / fast_1,
