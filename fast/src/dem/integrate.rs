@@ -6,6 +6,7 @@ use rayon::prelude::*;
 
 use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::particles::non_contact::{LoadShare, NonContactForces};
+use spillage_model::particles::state::Vec3;
 
 use super::arrays::ParticleArrays;
 
@@ -37,32 +38,57 @@ pub enum Half {
 }
 
 /// One half of a sub-step of length `dt` for every particle; `fluid` is indexed by the
-/// state's order. Returns the work of the non-contact forces [J] (summed in internal order).
-pub fn half_step(half: Half, arrays: &mut ParticleArrays, sums: &mut StepSums, forces: &NonContactForces, fluid: &[Option<FluidAtParticle>], dt: f64) -> f64 {
+/// state's order. Returns the work of the non-contact forces [J] (summed in internal order)
+/// and, after the drift, the largest squared displacement from `origins` (the neighbour list's
+/// build positions; NaN when they are not these particles').
+pub fn half_step(
+    half: Half,
+    arrays: &mut ParticleArrays,
+    sums: &mut StepSums,
+    forces: &NonContactForces,
+    fluid: &[Option<FluidAtParticle>],
+    dt: f64,
+    origins: &[Vec3],
+) -> (f64, f64) {
+    let known = origins.len() == arrays.len();
     let ParticleArrays { state_index, diameter, density, mass, inertia, volume, position, velocity, spin, force, torque, .. } = arrays;
     let h = 0.5 * dt;
-    (velocity, spin, position, &mut sums.load, &mut sums.work).into_par_iter().enumerate().with_min_len(512).for_each(|(k, (v, w, x, load, work))| {
-        if half == Half::First {
-            *v += h * force[k] / mass[k];
-            *w += h * torque[k] / inertia[k];
-        }
-        let before = v.norm_squared();
-        let (after, share) = forces.update(*v, *x, diameter[k], density[k], volume[k], fluid.get(state_index[k]).and_then(|f| f.as_ref()), h);
-        *v = after;
-        if let Some(share) = share {
-            load.implicit_drag += share.implicit_drag;
-            load.explicit_force += share.explicit_force;
-            load.drag += share.drag;
-            load.slip_reynolds = share.slip_reynolds;
-        }
-        *work = 0.5 * mass[k] * (v.norm_squared() - before);
-        match half {
-            Half::First => *x += dt * *v,
-            Half::Second => {
+    let displacement = (velocity, spin, position, &mut sums.load, &mut sums.work)
+        .into_par_iter()
+        .enumerate()
+        .with_min_len(512)
+        .map(|(k, (v, w, x, load, work))| {
+            if half == Half::First {
                 *v += h * force[k] / mass[k];
                 *w += h * torque[k] / inertia[k];
             }
-        }
-    });
-    sums.work.iter().sum()
+            let before = v.norm_squared();
+            let (after, share) = forces.update(*v, *x, diameter[k], density[k], volume[k], fluid.get(state_index[k]).and_then(|f| f.as_ref()), h);
+            *v = after;
+            if let Some(share) = share {
+                load.implicit_drag += share.implicit_drag;
+                load.explicit_force += share.explicit_force;
+                load.drag += share.drag;
+                load.slip_reynolds = share.slip_reynolds;
+            }
+            *work = 0.5 * mass[k] * (v.norm_squared() - before);
+            match half {
+                Half::First => {
+                    *x += dt * *v;
+                    if known {
+                        (*x - origins[k]).norm_squared()
+                    } else {
+                        f64::NAN
+                    }
+                }
+                Half::Second => {
+                    *v += h * force[k] / mass[k];
+                    *w += h * torque[k] / inertia[k];
+                    0.0
+                }
+            }
+        })
+        // the largest of exact values: the same whatever the threads (NaN wins)
+        .reduce(|| 0.0, |x, y| if x.is_nan() || y.is_nan() { f64::NAN } else { x.max(y) });
+    (sums.work.iter().sum(), displacement)
 }

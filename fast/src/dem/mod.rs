@@ -153,14 +153,16 @@ impl FastDem {
         walls: &WallState,
         time: f64,
         dt: f64,
+        max_displacement_sq: f64,
         totals_needed: bool,
         impacts: &mut Vec<ImpactRecord>,
     ) -> (ContactTotals, Option<Fault>) {
-        if self.list.is_stale(&self.arrays) {
+        if self.list.is_stale(&self.arrays, max_displacement_sq) {
             self.list.build(&self.arrays, &self.setup.materials, History::Previous);
         }
-        let pair_context = PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from };
-        evaluate_pairs(&mut self.list, &self.arrays, &pair_context);
+        let pair_context =
+            PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from, energy: totals_needed };
+        let pair_fault = evaluate_pairs(&mut self.list, &self.arrays, &pair_context);
         self.frames.clear();
         self.frames.extend(walls.walls.iter().map(|w| w.frame()));
         let wall_context = WallContext {
@@ -190,14 +192,13 @@ impl FastDem {
         // make their first contacts, at every sub-step
         let mut totals = ContactTotals::default();
         if totals_needed {
-            for s in self.list.slots.iter().filter(|s| s.touching) {
+            for (s, _) in self.list.slots.iter().zip(&self.list.forces).filter(|(_, f)| f.touching) {
                 totals.contacts += 1;
                 totals.max_overlap_ratio = totals.max_overlap_ratio.max(s.overlap / self.arrays.radius[s.a as usize]);
                 totals.elastic += s.elastic;
                 totals.placed += s.placed;
             }
         }
-        let pair_fault = self.list.slots.par_iter().with_min_len(4096).any(|s| s.fault);
         let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
         let mut wall_fault: Option<(u64, Fault)> = None;
         let first_impact = impacts.len();
@@ -256,9 +257,10 @@ impl ParticlePhase for FastDem {
             let elapsed = (k + 1) as f64 * dt_s;
             // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose)
             let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
-            self.budget.external += half_step(Half::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s);
+            let (work, max_displacement_sq) = half_step(Half::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
+            self.budget.external += work;
             walls.place(end_time, rotor_end.as_ref());
-            let (sub, fault) = self.evaluate_contacts(walls, end_time, dt_s, feeding || k + 1 == n, &mut impacts);
+            let (sub, fault) = self.evaluate_contacts(walls, end_time, dt_s, max_displacement_sq, feeding || k + 1 == n, &mut impacts);
             self.budget.walls += dt_s * sub.wall_power;
             self.budget.placed += sub.placed;
             if let Some(fault) = fault {
@@ -270,7 +272,7 @@ impl ParticlePhase for FastDem {
                     what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1),
                 });
             }
-            self.budget.external += half_step(Half::Second, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s);
+            self.budget.external += half_step(Half::Second, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, &[]).0;
             totals = sub;
         }
         self.arrays.store(&mut particles.particles);

@@ -16,8 +16,8 @@ use spillage_model::particles::{ContactRecord, Partner};
 
 use super::arrays::{Grid, ParticleArrays};
 
-/// One listed pair and what its last evaluation found. `a` has the smaller id (the side the
-/// history is kept on, as in the reference).
+/// One listed pair and what its last evaluation found besides the forces. `a` has the smaller
+/// id (the side the history is kept on, as in the reference).
 #[derive(Clone, Debug)]
 pub struct PairSlot {
     pub a: u32,
@@ -25,18 +25,22 @@ pub struct PairSlot {
     pub constants: PairConstants,
     /// The contact's history; `Some` while the pair touches.
     pub record: Option<ContactRecord>,
-    /// Outputs of the last evaluation: force on a, torques on a and b (a's force is
-    /// `force`, b's is `−force`).
-    pub touching: bool,
-    pub force: Vec3,
-    pub torque_a: Vec3,
-    pub torque_b: Vec3,
     pub overlap: f64,
     /// Stored elastic energy, and the part of a first touch of a fed particle [J].
     pub elastic: f64,
     pub placed: f64,
     /// The evaluation found a fault ([`spillage_model::particles::guards::pair_fault`]).
     pub fault: bool,
+}
+
+/// The forces of a slot's last evaluation, apart from the rest so the per-particle sums read
+/// little memory: force on a (b's is `−force`), torques on a and b.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PairForce {
+    pub touching: bool,
+    pub force: Vec3,
+    pub torque_a: Vec3,
+    pub torque_b: Vec3,
 }
 
 /// Where a new list takes the histories of its pairs from.
@@ -53,6 +57,8 @@ pub struct NeighbourList {
     /// Gap below which a pair is listed [m].
     pub skin: f64,
     pub slots: Vec<PairSlot>,
+    /// The forces of each slot (same index).
+    pub forces: Vec<PairForce>,
     /// Slots of the pairs whose lower internal index is k: `first[k]..first[k + 1]`.
     first: Vec<usize>,
     /// Each particle's slots in ascending partner id (the reference's order of summation):
@@ -70,14 +76,17 @@ pub struct NeighbourList {
 }
 
 impl NeighbourList {
-    /// True when some particle moved more than half the skin since the last build (or the
-    /// list was never built for these particles).
-    pub fn is_stale(&self, arrays: &ParticleArrays) -> bool {
-        if self.built_at.len() != arrays.len() {
-            return true;
-        }
+    /// Positions at the last build (the drift measures the displacement since).
+    pub fn built_at(&self) -> &[Vec3] {
+        &self.built_at
+    }
+
+    /// True when a particle moved more than half the skin since the last build
+    /// (`max_displacement_sq`: the largest squared displacement, NaN if unknown) or the list
+    /// was never built for these particles.
+    pub fn is_stale(&self, arrays: &ParticleArrays, max_displacement_sq: f64) -> bool {
         let half = 0.5 * self.skin;
-        arrays.position.par_iter().zip(&self.built_at).with_min_len(1024).any(|(x, x0)| !((x - x0).norm() <= half))
+        self.built_at.len() != arrays.len() || !(max_displacement_sq <= half * half)
     }
 
     /// Lists every pair with a gap below the skin at the current positions.
@@ -130,11 +139,7 @@ impl NeighbourList {
                     a: a as u32,
                     b: b as u32,
                     constants: materials.constants(arrays.material[a], arrays.material[b], arrays.radius[a], arrays.radius[b], arrays.mass[a], arrays.mass[b]),
-                    touching: record.is_some(),
                     record,
-                    force: Vec3::zeros(),
-                    torque_a: Vec3::zeros(),
-                    torque_b: Vec3::zeros(),
                     overlap: 0.0,
                     elastic: 0.0,
                     placed: 0.0,
@@ -143,6 +148,8 @@ impl NeighbourList {
             })
         }));
         debug_assert_eq!(self.slots.len(), *self.first.last().unwrap_or(&0));
+        self.forces.clear();
+        self.forces.resize(self.slots.len(), PairForce::default());
         self.build_adjacency(arrays);
         self.built_at.clear();
         self.built_at.extend_from_slice(&arrays.position);

@@ -12,7 +12,7 @@ use spillage_model::particles::materials::MaterialTable;
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::ParticleArrays;
-use super::neighbour_list::{NeighbourList, PairSlot};
+use super::neighbour_list::{NeighbourList, PairForce, PairSlot};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -23,21 +23,31 @@ pub struct PairContext<'a> {
     pub dt: f64,
     /// Particles with this id or above were fed in this step.
     pub fed_from: u64,
+    /// Whether to measure the contacts' elastic energy (the guard needs it at the step's end,
+    /// and while fed particles make their first contacts).
+    pub energy: bool,
 }
 
-/// Evaluates every listed pair into its slot.
-pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) {
-    list.slots.par_iter_mut().with_min_len(512).for_each(|slot| evaluate(slot, arrays, context));
+/// Evaluates every listed pair into its slot; true when some pair has a fault.
+pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) -> bool {
+    (&mut list.slots, &mut list.forces)
+        .into_par_iter()
+        .with_min_len(512)
+        .map(|(slot, out)| {
+            evaluate(slot, out, arrays, context);
+            slot.fault
+        })
+        .reduce(|| false, |x, y| x || y)
 }
 
-fn evaluate(slot: &mut PairSlot, arrays: &ParticleArrays, context: &PairContext) {
+fn evaluate(slot: &mut PairSlot, out: &mut PairForce, arrays: &ParticleArrays, context: &PairContext) {
     let (a, b) = (slot.a as usize, slot.b as usize);
     let (ra, rb) = (arrays.radius[a], arrays.radius[b]);
     let offset = arrays.position[b] - arrays.position[a];
     let distance = offset.norm();
     slot.fault = false;
     if !(distance < ra + rb) {
-        slot.touching = false;
+        out.touching = false;
         slot.record = None;
         return;
     }
@@ -47,7 +57,7 @@ fn evaluate(slot: &mut PairSlot, arrays: &ParticleArrays, context: &PairContext)
         let fault = pair_fault(&arrays.particle(a), &arrays.particle(b), distance, overlap, fed);
         slot.fault = fault.is_some();
         if matches!(fault, Some(Fault::Coincident { .. })) {
-            slot.touching = false;
+            out.touching = false;
             slot.record = None;
             return;
         }
@@ -62,13 +72,17 @@ fn evaluate(slot: &mut PairSlot, arrays: &ParticleArrays, context: &PairContext)
     let force = hertz_mindlin_force(&slot.constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
     record.normal = normal;
     // §7.8 steps 6–7.
-    slot.touching = true;
-    slot.force = force.normal + force.tangential;
-    slot.torque_a = (ra * normal).cross(&force.tangential);
-    slot.torque_b = (-rb * normal).cross(&(-force.tangential));
+    *out = PairForce {
+        touching: true,
+        force: force.normal + force.tangential,
+        torque_a: (ra * normal).cross(&force.tangential),
+        torque_b: (-rb * normal).cross(&(-force.tangential)),
+    };
     slot.overlap = overlap;
-    slot.elastic = 0.4 * force.normal.norm() * overlap;
-    slot.placed = if new_contact && fed { slot.elastic } else { 0.0 };
+    if context.energy {
+        slot.elastic = 0.4 * force.normal.norm() * overlap;
+        slot.placed = if new_contact && fed { slot.elastic } else { 0.0 };
+    }
 }
 
 /// Particle `k`'s sum over its touching pairs: (force, torque, count).
@@ -76,7 +90,7 @@ fn evaluate(slot: &mut PairSlot, arrays: &ParticleArrays, context: &PairContext)
 pub fn gather(list: &NeighbourList, k: usize) -> (Vec3, Vec3, u32) {
     let (mut force, mut torque, mut count) = (Vec3::zeros(), Vec3::zeros(), 0);
     for &(slot, is_a) in &list.adjacency[list.adjacency_start[k]..list.adjacency_start[k + 1]] {
-        let s = &list.slots[slot as usize];
+        let s = &list.forces[slot as usize];
         if !s.touching {
             continue;
         }

@@ -60,12 +60,6 @@ pub fn damping_ratio(restitution: f64) -> f64 {
     -5f64.sqrt() * ln_e / (ln_e * ln_e + std::f64::consts::PI * std::f64::consts::PI).sqrt()
 }
 
-/// Damping coefficient η = α_η √(M* k_n) δ_n^{1/4} [kg/s] (T3.100, the same η in both
-/// directions, §7.1).
-pub fn damping_coefficient(damping_ratio: f64, effective_mass: f64, normal_stiffness: f64, overlap: f64) -> f64 {
-    damping_ratio * (effective_mass * normal_stiffness).sqrt() * overlap.max(0.0).powf(0.25)
-}
-
 /// Elastic energy stored in a Hertz contact, ∫ k_n δ^{3/2} dδ = (2/5) k_n δ^{5/2} [J].
 pub fn hertz_energy(normal_stiffness: f64, overlap: f64) -> f64 {
     0.4 * normal_stiffness * overlap.max(0.0).powf(2.5)
@@ -92,6 +86,8 @@ pub struct PairConstants {
     pub tangential_stiffness: f64,
     /// Effective mass M* [kg].
     pub effective_mass: f64,
+    /// √(M* k_n), the damping coefficient's pair factor (T3.100) [kg/(s m^{1/4})].
+    pub damping_scale: f64,
     /// Coulomb friction coefficient μ_f.
     pub friction: f64,
     pub slip_test: SlipTest,
@@ -131,17 +127,18 @@ pub fn hertz_mindlin_force(
     // δ^{1/2}, δ^{3/2} and δ^{1/4} from one square root (two `powf` cost as much as the rest of
     // the contact)
     let root = overlap.max(0.0).sqrt();
-    let eta = damping_ratio * (constants.effective_mass * constants.normal_stiffness).sqrt() * root.sqrt();
+    // (T3.100): η = α_η √(M* k_n) δ_n^{1/4}, the same in both directions (§7.1).
+    let eta = damping_ratio * constants.damping_scale * root.sqrt();
     // (T3.94): F_n = −k_n δ^{3/2} n − η u_n, not clipped at zero (the damping law T3.101 is exact
     // only for the unclipped force; particle-verification.md §7 item 10).
     let f_n = -constants.normal_stiffness * (overlap * root) * normal - eta * u_n;
 
     // §7.8 step 8: keep δ_t in the current tangent plane (rotate, keeping its length).
-    let old_length = tangential_overlap.norm();
+    let old_length_sq = tangential_overlap.norm_squared();
     let mut in_plane = *tangential_overlap - normal * tangential_overlap.dot(&normal);
-    let in_plane_length = in_plane.norm();
-    if in_plane_length > 0.0 {
-        in_plane *= old_length / in_plane_length;
+    let in_plane_length_sq = in_plane.norm_squared();
+    if in_plane_length_sq > 0.0 {
+        in_plane *= (old_length_sq / in_plane_length_sq).sqrt();
     }
     // (T3.96): accumulate the tangential displacement.
     *tangential_overlap = in_plane + u_t * dt;
@@ -149,14 +146,17 @@ pub fn hertz_mindlin_force(
     let spring = constants.tangential_stiffness * root;
     let spring_force = -spring * *tangential_overlap;
     let trial = spring_force - eta * u_t;
-    let limit = constants.friction * f_n.norm();
+    // the Coulomb test on squares: the square roots are needed only when the contact slips
+    let friction = constants.friction;
+    let limit_sq = friction * friction * f_n.norm_squared();
     let exceeds = match constants.slip_test {
-        SlipTest::Thesis => trial.norm() > limit,
-        SlipTest::Spring => spring_force.norm() > limit,
+        SlipTest::Thesis => trial.norm_squared() > limit_sq,
+        SlipTest::Spring => spring_force.norm_squared() > limit_sq,
     };
     if !exceeds {
         return ContactForce { normal: f_n, tangential: trial, sliding: false };
     }
+    let limit = friction * f_n.norm();
     // (T3.95) slip branch: |F_t| = μ_f|F_n| opposing the motion. The direction is that of the
     // trial force, which is along −u_t when sliding and stays defined when u_t → 0 (§11.3).
     let direction = if trial.norm() > 0.0 { trial / trial.norm() } else { Vec3::zeros() };
@@ -205,7 +205,14 @@ mod tests {
 
     #[test]
     fn coulomb_limit_caps_the_tangential_force() {
-        let constants = PairConstants { normal_stiffness: 1e6, tangential_stiffness: 1e6, effective_mass: 1.0, friction: 0.1, slip_test: SlipTest::Thesis };
+        let constants = PairConstants {
+            normal_stiffness: 1e6,
+            tangential_stiffness: 1e6,
+            effective_mass: 1.0,
+            damping_scale: 1e3,
+            friction: 0.1,
+            slip_test: SlipTest::Thesis,
+        };
         let n = Vec3::new(0.0, 0.0, -1.0);
         let mut delta_t = Vec3::zeros();
         let f = hertz_mindlin_force(&constants, 0.0, n, 1e-4, Vec3::new(10.0, 0.0, 0.0), &mut delta_t, 1e-3);

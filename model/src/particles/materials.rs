@@ -50,10 +50,12 @@ impl MaterialTable {
     pub fn constants(&self, material_i: usize, material_j: usize, radius_i: f64, radius_j: f64, mass_i: f64, mass_j: f64) -> PairConstants {
         let pair = &self.pairs[material_i][material_j];
         let r_eff = harmonic(radius_i, radius_j);
+        let (k_n, m_eff) = (normal_stiffness(r_eff, pair.effective_youngs), harmonic(mass_i, mass_j));
         PairConstants {
-            normal_stiffness: normal_stiffness(r_eff, pair.effective_youngs),
+            normal_stiffness: k_n,
             tangential_stiffness: tangential_stiffness(r_eff, pair.effective_shear),
-            effective_mass: harmonic(mass_i, mass_j),
+            effective_mass: m_eff,
+            damping_scale: (m_eff * k_n).sqrt(),
             friction: pair.friction,
             slip_test: self.slip_test,
         }
