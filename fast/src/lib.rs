@@ -1,7 +1,9 @@
 //! Fast solver: the same model as `spillage-reference`, engineered for speed (struct-of-arrays
 //! fields, precomputed face geometry updated in place, rayon with fixed-order reductions so the
 //! results are bit-identical on any number of threads, preconditioned Krylov solvers with an
-//! aggregation multigrid for the pressure).
+//! aggregation multigrid for the pressure), and the wear phase ([`wear`]) on the same linear
+//! solvers.
 
 pub mod fluid;
 pub mod linear;
+pub mod wear;
