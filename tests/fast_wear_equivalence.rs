@@ -324,13 +324,14 @@ fn the_coriolis_garnet_wears_the_same_in_the_fast_phase_on_one_and_two_threads()
     check_case("cases/verification/wear/coriolis_garnet.toml", 200, 8, 3);
 }
 
-/// The stream plate refined to `divisions` (more than a reduction chunk of nodes and
-/// triangles, so every parallel loop of the fast phase runs in parallel) with its walls and a
-/// fresh wear state.
-fn refined_plate(divisions: [i64; 2]) -> (Case, State) {
+/// The stream plate divided into `divisions` (refined: more than a reduction chunk of nodes and
+/// triangles, so every parallel loop of the fast phase runs in parallel), edited by `edit`, with
+/// its walls (no wear state yet).
+fn plate(divisions: [i64; 2], edit: impl Fn(&mut toml::Table)) -> (Case, State) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/stream_plate.toml");
     let mut table: toml::Table = std::fs::read_to_string(&path).unwrap().parse().unwrap();
     table["walls"][0]["shape"]["divisions"] = toml::Value::Array(divisions.map(toml::Value::Integer).to_vec());
+    edit(&mut table);
     let case = Case::from_toml(&toml::to_string(&table).unwrap(), &path).unwrap();
     let mut state = State::default();
     let _dem = ReferenceDem::new(&case, &mut state).unwrap();
@@ -380,7 +381,7 @@ fn impacts(walls: &WallState, n: usize, seed: u64, time: f64) -> Vec<ImpactRecor
 /// receded + still smoothing, and the receded volume is the plate's geometric volume change.
 #[test]
 fn on_a_refined_plate_the_parallel_fast_phase_matches_the_reference_and_conserves_volume() {
-    let (case, mut state) = refined_plate([100, 50]);
+    let (case, mut state) = plate([100, 50], |_| {});
     let section = case.wear.clone().unwrap();
     assert!(section.smoothing.is_some() && section.receding);
     let log = Arc::new(Mutex::new(TwinLog::default()));
@@ -422,4 +423,46 @@ fn on_a_refined_plate_the_parallel_fast_phase_matches_the_reference_and_conserve
     let log = log.lock().unwrap();
     eprintln!("refined plate, 4 steps of 3000 impacts and one without: largest differences {:?}, balance error {:e}", log.worst, log.balance);
     assert!(wear.walls[0].receded > 0.0 && walls.walls[0].revision == 5);
+}
+
+/// Wear deeper than the triangles are wide (acceleration 10⁶, no smoothing): both phases refuse
+/// it with the same message at the same step and leave the wall as it was; an impact on a
+/// triangle the wall does not have is an error of the fast phase, not a panic.
+#[test]
+fn wear_deeper_than_the_triangles_is_the_same_error_in_both_phases() {
+    let (case, mut state) = plate([40, 20], |t| {
+        t["wear"]["acceleration"] = toml::Value::Float(1e6);
+        t["wear"].as_table_mut().unwrap().remove("smoothing");
+    });
+    let mut reference = ReferenceWear::new(&case, &mut state).unwrap();
+    let mut fast = FastWear::new(&case, &mut state.clone()).unwrap();
+    let (mut wear, mut walls) = (state.wear.clone().unwrap(), state.walls.clone().unwrap());
+    let (mut fast_wear, mut fast_walls) = (wear.clone(), walls.clone());
+    let dt = case.time.dt.unwrap();
+    let mut report = StepReport::default();
+    let errors = (1..=20u64).find_map(|step| {
+        let ctx = StepContext::new(step, (step - 1) as f64 * dt, dt, dt, Default::default(), None);
+        let hits = impacts(&walls, 5, step, ctx.time);
+        let (before, fast_before) = (walls.clone(), fast_walls.clone());
+        let r = reference.advance(&ctx, &hits, &mut wear, &mut walls, &mut report);
+        let f = fast.advance(&ctx, &hits, &mut fast_wear, &mut fast_walls, &mut report);
+        assert_eq!(r.is_err(), f.is_err(), "step {step}: {r:?} vs {f:?}");
+        match (r, f) {
+            (Err(r), Err(f)) => {
+                assert_eq!(walls, before);
+                assert_eq!(fast_walls, fast_before);
+                Some((r.to_string(), f.to_string()))
+            }
+            _ => None,
+        }
+    });
+    let (r, f) = errors.expect("no error although every impact removes millimetres");
+    assert!(f.contains("wall `plate` would turn inside out") && f.contains("acceleration"), "{f}");
+    assert_eq!(r, f);
+
+    let mut wrong = impacts(&walls, 1, 99, 0.0);
+    wrong[0].triangle = 1_000_000;
+    let ctx = StepContext::new(1, 0.0, dt, dt, Default::default(), None);
+    let error = fast.advance(&ctx, &wrong, &mut fast_wear, &mut fast_walls, &mut report).unwrap_err().to_string();
+    assert!(error.contains("wall `plate`: an impact on triangle 1000000 of 1600"), "{error}");
 }
