@@ -3,6 +3,9 @@
 //! kernel γ = 1), both fluids driven by the reference DEM, so the ratio is that of the whole
 //! coupled step (mapping, DEM and fluid) as a user runs it today.
 //!
+//! And P3 at fine resolution with the whole fast solver (fluid and DEM, 2 threads) against the
+//! whole reference solver.
+//!
 //! `cargo bench --bench coupled_step`. The ratio is measured in one run, printed and written to
 //! `target/spillage-bench/coupled_step.json`.
 
@@ -10,6 +13,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use criterion::{criterion_group, Criterion};
+use spillage_fast::dem::FastDem;
 use spillage_fast::fluid::FastFluid;
 use spillage_model::case::Case;
 use spillage_model::solver::Solver;
@@ -79,6 +83,34 @@ fn ratio() {
     let _ = std::fs::write(dir.join("coupled_step.json"), json);
 }
 
+/// P3 at fine resolution (`cases/bench/hindered_settling_fine.toml`: 9 840 cells, 1 683
+/// particles at α_p = 0.308): the whole fast solver (fluid and DEM) on 2 threads against the
+/// whole reference solver (issue 19 asks for ≥ 30×).
+fn fine_ratio() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench/hindered_settling_fine.toml");
+    let case = Case::load(&path).expect("case");
+    let mesh = || spillage::verify::fluid::build_mesh(&case).expect("mesh");
+    let mut state = State::default();
+    let fluid = ReferenceFluid::new(&case, mesh(), &mut state).expect("reference fluid");
+    let dem = ReferenceDem::new(&case, &mut state).expect("reference DEM");
+    let r = seconds_per_step(&mut Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run"), 3);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+    let f = pool.install(|| {
+        let mut state = State::default();
+        let fluid = FastFluid::new(&case, mesh(), &mut state).expect("fast fluid");
+        let dem = FastDem::new(&case, &mut state).expect("fast DEM");
+        seconds_per_step(&mut Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run"), 6)
+    });
+    println!("P3 fine (9 840 cells, 1 683 particles): reference {r:.3} s per step, fast on 2 threads {f:.4} s: ratio {:.1}", r / f);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
+    let _ = std::fs::create_dir_all(&dir);
+    let json = format!(
+        "{{\"case\": \"hindered_settling_fine\", \"reference_seconds_per_step\": {r}, \"fast_2_threads_seconds_per_step\": {f}, \"ratio\": {}}}\n",
+        r / f
+    );
+    let _ = std::fs::write(dir.join("coupled_step_fine.json"), json);
+}
+
 fn bench(c: &mut Criterion) {
     let case = p3();
     let mut group = c.benchmark_group("coupled_step");
@@ -92,6 +124,7 @@ criterion_group!(benches, bench);
 
 fn main() {
     ratio();
+    fine_ratio();
     benches();
     Criterion::default().configure_from_args().final_summary();
 }

@@ -15,7 +15,7 @@ use spillage_model::output::series::{read_series, SeriesWriter};
 use spillage_model::output::summary::Summary;
 use spillage_model::solver::{Solver, SolverError, StepReport};
 use spillage_model::state::State;
-use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
+use spillage_model::step::{Coupled, FluidPhase, ParticlePhase, WearPhase};
 
 use crate::frames::{CouplingFrame, Frames};
 
@@ -32,7 +32,7 @@ pub struct RunOptions {
 }
 
 /// Builds the run a case needs, from the initial state or a restart state: the step driver
-/// with the case's fluid and particle phases, both fast or both reference.
+/// with the case's fluid, particle and wear phases, all fast or all reference.
 pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> anyhow::Result<Box<dyn Solver>> {
     let located = |e: SolverError| anyhow::anyhow!("{}: {e}", case.path.display());
     if let Some(restart) = &state {
@@ -59,9 +59,10 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
     if fluid.is_some() && particles.is_some() && case.coupling.is_none() {
         eprintln!("note: one-way coupling: the particles see the fluid, the fluid does not see the particles; add a [coupling] section for two-way coupling");
     }
-    let wear = match &case.wear {
-        Some(_) => Some(Box::new(spillage_reference::wear::ReferenceWear::new(case, &mut state).map_err(located)?)),
-        None => None,
+    let wear: Option<Box<dyn WearPhase + Send>> = match (&case.wear, choice) {
+        (Some(_), SolverChoice::Fast) => Some(Box::new(spillage_fast::wear::FastWear::new(case, &mut state).map_err(located)?)),
+        (Some(_), SolverChoice::Reference) => Some(Box::new(spillage_reference::wear::ReferenceWear::new(case, &mut state).map_err(located)?)),
+        (None, _) => None,
     };
     let run = Coupled::new(case, state, fluid, particles).map_err(located)?;
     Ok(Box::new(match wear {

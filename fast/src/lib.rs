@@ -1,8 +1,11 @@
 //! Fast solver: the same model as `spillage-reference`, engineered for speed (struct-of-arrays
 //! fields, precomputed face geometry updated in place, rayon with fixed-order reductions so the
 //! results are bit-identical on any number of threads, preconditioned Krylov solvers with an
-//! aggregation multigrid for the pressure).
+//! aggregation multigrid for the pressure), the DEM ([`dem`]: struct-of-arrays particles, a
+//! neighbour list with contact histories in its slots, walls through their BVHs) and the wear
+//! phase ([`wear`]) on the same linear solvers.
 
 pub mod dem;
 pub mod fluid;
 pub mod linear;
+pub mod wear;

@@ -1,6 +1,6 @@
-//! Fast vs reference DEM, step by step (issue 19): a case runs with each particle phase, the
-//! same fluid phase (the fast one, bit-deterministic) and the same wear phase, from the same
-//! initial state; after every step the whole states are compared field by field
+//! Fast vs reference particle path, step by step (issue 19): a case runs with the reference DEM
+//! and wear phase and with the fast ones, the same fluid phase (the fast one, bit-deterministic),
+//! from the same initial state; after every step the whole states are compared field by field
 //! ([`spillage_model::state_diff`]): particle positions, velocities, spins, contact forces,
 //! the contact histories (same contacts, same tangential springs), the impact log and the
 //! fluid the particles load. Contact records and impacts must match one for one: a missing or
@@ -9,11 +9,12 @@
 use anyhow::{bail, Context, Result};
 use spillage_fast::dem::FastDem;
 use spillage_fast::fluid::FastFluid;
+use spillage_fast::wear::FastWear;
 use spillage_model::case::Case;
-use spillage_model::solver::{Solver, SolverError};
+use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::state_diff::diff;
-use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
+use spillage_model::step::{Coupled, FluidPhase, ParticlePhase, WearPhase};
 use spillage_reference::dem::ReferenceDem;
 use spillage_reference::wear::ReferenceWear;
 
@@ -49,47 +50,47 @@ impl ParticleEquivalence {
     }
 }
 
-type MakeDem = fn(&Case, &mut State) -> Result<Box<dyn ParticlePhase>, SolverError>;
-
-fn reference_dem(case: &Case, state: &mut State) -> Result<Box<dyn ParticlePhase>, SolverError> {
-    Ok(Box::new(ReferenceDem::new(case, state)?))
+/// Which particle path: the DEM and, with `[wear]`, the wear phase.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Path {
+    Reference,
+    Fast,
 }
 
-fn fast_dem(case: &Case, state: &mut State) -> Result<Box<dyn ParticlePhase>, SolverError> {
-    Ok(Box::new(FastDem::new(case, state)?))
-}
-
-/// A run of `case` with the fast fluid (if it has one), the `make` DEM and the reference wear
-/// (if it has `[wear]`).
-fn run_with(case: &Case, make: MakeDem) -> Result<Box<dyn Solver>> {
+/// A run of `case` with the fast fluid (if it has one) and the `path` DEM and wear phase.
+fn run_with(case: &Case, path: Path) -> Result<Box<dyn Solver>> {
     let mut state = State::default();
     let fluid: Option<Box<dyn FluidPhase>> = match (&case.fluid, spillage_model::mesh::for_case(case)) {
         (Some(_), Some(mesh)) => Some(Box::new(FastFluid::new(case, mesh.map_err(|e| anyhow::anyhow!("{e}"))?, &mut state)?)),
         (Some(_), None) => bail!("a case with [fluid] needs a [mesh]"),
         (None, _) => None,
     };
-    let dem = make(case, &mut state)?;
-    let wear = match case.wear {
-        Some(_) => Some(ReferenceWear::new(case, &mut state)?),
-        None => None,
+    let dem: Box<dyn ParticlePhase> = match path {
+        Path::Reference => Box::new(ReferenceDem::new(case, &mut state)?),
+        Path::Fast => Box::new(FastDem::new(case, &mut state)?),
+    };
+    let wear: Option<Box<dyn WearPhase + Send>> = match (&case.wear, path) {
+        (None, _) => None,
+        (Some(_), Path::Reference) => Some(Box::new(ReferenceWear::new(case, &mut state)?)),
+        (Some(_), Path::Fast) => Some(Box::new(FastWear::new(case, &mut state)?)),
     };
     let run = Coupled::new(case, state, fluid, Some(dem))?;
     Ok(match wear {
-        Some(wear) => Box::new(run.with_wear(Box::new(wear))?),
+        Some(wear) => Box::new(run.with_wear(wear)?),
         None => Box::new(run),
     })
 }
 
-/// The fast DEM's run of `case` (fast fluid, reference wear), for the thread-count check.
+/// The fast particle path's run of `case` (fast fluid, DEM and wear), for the thread-count check.
 pub fn fast_run(case: &Case) -> Result<Box<dyn Solver>> {
-    run_with(case, fast_dem)
+    run_with(case, Path::Fast)
 }
 
 /// Runs `case` with both particle phases until both have taken `min_substeps` DEM sub-steps
 /// (at most `max_steps` steps), comparing after every step.
 pub fn compare_particle_phases(case: &Case, min_substeps: u64, max_steps: u64) -> Result<ParticleEquivalence> {
-    let mut reference = run_with(case, reference_dem)?;
-    let mut fast = run_with(case, fast_dem)?;
+    let mut reference = run_with(case, Path::Reference)?;
+    let mut fast = run_with(case, Path::Fast)?;
     let mut out =
         ParticleEquivalence { steps: 0, substeps: 0, worst: 0.0, worst_field: String::new(), worst_step: 0, reference_seconds: 0.0, fast_seconds: 0.0 };
     while out.substeps < min_substeps && out.steps < max_steps {
