@@ -27,7 +27,8 @@ use spillage_model::state::State;
 use spillage_model::step::{StepContext, WearPhase};
 use spillage_model::walls::state::{Vec3, WallState};
 use spillage_model::wear::laws::ErosionLaw;
-use spillage_model::wear::state::{WallWear, WearState, ANGLE_BINS, SPEED_BINS};
+use spillage_model::wear::setup::{WearSetup, WearTotals};
+use spillage_model::wear::state::WearState;
 use spillage_model::wear::surface::WearSurface;
 
 use deposit::DepositWork;
@@ -72,77 +73,7 @@ impl FastWear {
     /// walls must be there: build the particle phase first). The same contract and the same
     /// errors as the reference phase's constructor.
     pub fn new(case: &Case, state: &mut State) -> Result<Self, SolverError> {
-        let section = case.wear.as_ref().ok_or_else(|| unsupported("the wear phase needs a [wear] section"))?;
-        let law = ErosionLaw::from_section(section).map_err(|e| unsupported(format!("[wear]: key `{}` = {}: expected {}", e.key, e.value, e.allowed)))?;
-        let walls = state.walls.as_ref().ok_or_else(|| unsupported("the wear phase needs the walls (set up the particle phase first)"))?;
-        let eroding: Vec<usize> = if section.walls.is_empty() {
-            (0..walls.walls.len()).collect()
-        } else {
-            let mut found = Vec::new();
-            for name in &section.walls {
-                let i = walls.walls.iter().position(|w| &w.name == name).ok_or_else(|| unsupported(format!("[wear] walls: no wall named {name:?}")))?;
-                found.push(i);
-            }
-            found
-        };
-        // the surfaces are built on the walls' unworn shape, rebuilt from the case: a restart
-        // (whose walls are worn) gets the same operators bit for bit (and the same as the
-        // reference phase's)
-        let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
-        let unworn = spillage_model::walls::build(case, &dir).map_err(|e| unsupported(format!("walls: {e}")))?;
-        if unworn.walls.len() != walls.walls.len() {
-            return Err(unsupported(format!("the state has {} walls, the case {}", walls.walls.len(), unworn.walls.len())));
-        }
-        let surfaces: Vec<WearSurface> = eroding.iter().map(|&i| WearSurface::new(&unworn.walls[i].vertices, &unworn.walls[i].triangles)).collect();
-        for (&i, surface) in eroding.iter().zip(&surfaces) {
-            // a worn wall keeps its mesh: only its vertices move
-            if walls.walls[i].vertices.len() != surface.node_of_vertex.len() || walls.walls[i].triangles.len() != surface.triangles.len() {
-                return Err(unsupported(format!(
-                    "wall `{}` has {} vertices and {} triangles in the state, {} and {} in the case (a checkpoint of another case?)",
-                    walls.walls[i].name,
-                    walls.walls[i].vertices.len(),
-                    walls.walls[i].triangles.len(),
-                    surface.node_of_vertex.len(),
-                    surface.triangles.len()
-                )));
-            }
-        }
-        match &state.wear {
-            None => {
-                let mut wear = WearState::default();
-                for (&i, surface) in eroding.iter().zip(&surfaces) {
-                    let wall = &walls.walls[i];
-                    let mut w = WallWear::new(i, wall.name.clone(), wall.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
-                    let nodes = surface.nodes(&wall.vertices);
-                    let origin = nodes.iter().fold(Vec3::zeros(), |a, p| a + p) / nodes.len().max(1) as f64;
-                    w.volume_origin = origin.into();
-                    w.initial_volume = surface.cone_volume(&nodes, origin);
-                    if surface.closed {
-                        // outward winding encloses a positive volume; the material is inside
-                        w.material_side = -w.initial_volume.signum();
-                    }
-                    wear.walls.push(w);
-                }
-                state.wear = Some(wear);
-            }
-            Some(wear) => {
-                let same = wear.walls.len() == eroding.len()
-                    && wear.walls.iter().zip(&eroding).zip(&surfaces).all(|((w, &i), s)| w.wall == i && w.node_rate.len() == s.n_nodes);
-                // the per-triangle arrays are indexed without further checks in the step
-                let sized = wear.walls.iter().zip(&surfaces).all(|(w, s)| {
-                    let n = s.triangles.len();
-                    w.node_depth.len() == s.n_nodes
-                        && w.triangle_volume.len() == n
-                        && w.triangle_impacts.len() == n
-                        && w.angle_histogram.len() == n * ANGLE_BINS
-                        && w.speed_histogram.len() == n * SPEED_BINS
-                });
-                if !(same && sized) {
-                    return Err(unsupported("the wear state does not match the case's eroding walls (a checkpoint of another case?)"));
-                }
-            }
-        }
-        let smoothing = section.smoothing.as_ref().map(|s| (s.diffusivity, s.damping));
+        let WearSetup { law, scale, smoothing, receding, histogram_max_speed, surfaces } = WearSetup::new(case, state).map_err(unsupported)?;
         let walls = surfaces
             .into_iter()
             .map(|surface| {
@@ -159,14 +90,7 @@ impl FastWear {
                 }
             })
             .collect();
-        Ok(FastWear {
-            law,
-            scale: section.modifier * section.acceleration,
-            damping: smoothing.map(|s| s.1),
-            receding: section.receding,
-            histogram_max_speed: section.histogram_max_speed,
-            walls,
-        })
+        Ok(FastWear { law, scale, damping: smoothing.map(|s| s.1), receding, histogram_max_speed, walls })
     }
 
     /// The surface of each eroding wall (output: node areas, triangles over nodes).
@@ -189,7 +113,7 @@ impl WearPhase for FastWear {
         report: &mut StepReport,
     ) -> Result<(), SolverError> {
         let mut step_impacts = 0u64;
-        let mut totals = Totals::default();
+        let mut totals = WearTotals::default();
         let diverged = |what: String| SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what };
         for (w, work) in wear.walls.iter_mut().zip(&mut self.walls) {
             let n_walls = walls.walls.len();
@@ -218,38 +142,7 @@ impl WearPhase for FastWear {
             totals.add(w, surface, self.damping, geometric);
         }
         wear.impacts += step_impacts;
-        let balance = totals.deposited - totals.receded - totals.in_flight - totals.pending;
-        report.values.extend([
-            ("wear_impacts", wear.impacts as f64),
-            ("wear_deposited", totals.deposited),
-            ("wear_receded", totals.receded),
-            ("wear_in_flight", totals.in_flight),
-            ("wear_geometric", totals.geometric),
-            ("wear_balance_error", balance.abs() / totals.deposited.max(f64::MIN_POSITIVE)),
-            ("wear_max_depth", totals.max_depth),
-        ]);
+        totals.report(wear.impacts, report);
         Ok(())
-    }
-}
-
-/// Sums over the eroding walls for the step report (as the reference phase's).
-#[derive(Default)]
-struct Totals {
-    deposited: f64,
-    receded: f64,
-    in_flight: f64,
-    pending: f64,
-    geometric: f64,
-    max_depth: f64,
-}
-
-impl Totals {
-    fn add(&mut self, w: &WallWear, surface: &WearSurface, damping: Option<f64>, geometric: f64) {
-        self.deposited += w.deposited;
-        self.receded += w.receded;
-        self.in_flight += w.in_flight(&surface.node_area, damping);
-        self.pending += w.pending;
-        self.geometric += geometric;
-        self.max_depth = w.node_depth.iter().fold(self.max_depth, |m, d| m.max(*d));
     }
 }

@@ -11,6 +11,7 @@
 
 use rayon::prelude::*;
 use spillage_model::walls::state::{Vec3, Wall};
+use spillage_model::wear::recession::{displacement_scale, inside_out};
 use spillage_model::wear::state::WallWear;
 use spillage_model::wear::surface::WearSurface;
 
@@ -131,31 +132,12 @@ pub fn recede(
             c[k] += term[k];
         }
     }
-    let removed = |s: f64| side * (c[0] * s + c[1] * s * s + c[2] * s * s * s);
-    let slope = |s: f64| side * (c[0] + 2.0 * c[1] * s + 3.0 * c[2] * s * s);
-    if !(side != 0.0 && slope(0.0) > 0.0) {
+    let Some(s) = displacement_scale(c, side, target, &w.name)? else {
         // only rim nodes were hit: the volume waits for a step that moves an inner node
         w.pending = target;
         return Ok(());
-    }
-    let mut s = target / slope(0.0);
-    for _ in 0..50 {
-        let step = (removed(s) - target) / slope(s);
-        s -= step;
-        if step.abs() <= 1e-15 * s.abs() {
-            break;
-        }
-    }
-    if !(s.is_finite() && s > 0.0 && (removed(s) - target).abs() <= 1e-12 * target) {
-        return Err(format!("wall `{}`: the receding wall's volume equation has no solution (removed volume {target:e} m³)", w.name));
-    }
-    par_update(moved, |j, p| *p = nodes_now[j] + s * displacement[j]);
-    let inside_out = |centre: Vec3| {
-        format!(
-            "wall `{}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or modifier, or widen [wear.smoothing]",
-            w.name, centre.x, centre.y, centre.z
-        )
     };
+    par_update(moved, |j, p| *p = nodes_now[j] + s * displacement[j]);
     // a node may move at most half its shortest edge in one step: deeper, its triangles fold
     par_update(shortest, |j, shortest| {
         let mut m = f64::INFINITY;
@@ -170,7 +152,7 @@ pub fn recede(
     });
     let shortest = &*shortest;
     if let Some(j) = first(n, |j| s * displacement[j].norm() > 0.5 * shortest[j]) {
-        return Err(inside_out(nodes_now[j]));
+        return Err(inside_out(&w.name, nodes_now[j]));
     }
     let moved = &*moved;
     let folds = |t: usize| {
@@ -180,7 +162,7 @@ pub fn recede(
     };
     if let Some(t) = first(surface.triangles.len(), folds) {
         let [a, b, cc] = surface.triangles[t].map(|n| nodes_now[n as usize]);
-        return Err(inside_out((a + b + cc) / 3.0));
+        return Err(inside_out(&w.name, (a + b + cc) / 3.0));
     }
     let node_of_vertex = &surface.node_of_vertex;
     par_update(&mut wall.vertices, |v, p| {

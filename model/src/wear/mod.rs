@@ -6,7 +6,9 @@
 pub mod law_from_case;
 pub mod laws;
 pub mod profile;
+pub mod recession;
 pub mod settings;
+pub mod setup;
 pub mod state;
 pub mod surface;
 #[cfg(test)]

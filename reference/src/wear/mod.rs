@@ -21,9 +21,10 @@ use spillage_model::particles::ImpactRecord;
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{StepContext, WearPhase};
-use spillage_model::walls::state::{Vec3, WallState};
+use spillage_model::walls::state::WallState;
 use spillage_model::wear::laws::ErosionLaw;
-use spillage_model::wear::state::{WallWear, WearState};
+use spillage_model::wear::setup::{WearSetup, WearTotals};
+use spillage_model::wear::state::WearState;
 use spillage_model::wear::surface::WearSurface;
 
 /// The reference wear phase: the case's law and constants and each eroding wall's surface; the
@@ -48,61 +49,8 @@ impl ReferenceWear {
     /// Sets up wear for `case`; a missing wear state in `state` starts from unworn walls (the
     /// walls must be there: build the particle phase first).
     pub fn new(case: &Case, state: &mut State) -> Result<Self, SolverError> {
-        let section = case.wear.as_ref().ok_or_else(|| unsupported("the wear phase needs a [wear] section"))?;
-        let law = ErosionLaw::from_section(section).map_err(|e| unsupported(format!("[wear]: key `{}` = {}: expected {}", e.key, e.value, e.allowed)))?;
-        let walls = state.walls.as_ref().ok_or_else(|| unsupported("the wear phase needs the walls (set up the particle phase first)"))?;
-        let eroding: Vec<usize> = if section.walls.is_empty() {
-            (0..walls.walls.len()).collect()
-        } else {
-            let mut found = Vec::new();
-            for name in &section.walls {
-                let i = walls.walls.iter().position(|w| &w.name == name).ok_or_else(|| unsupported(format!("[wear] walls: no wall named {name:?}")))?;
-                found.push(i);
-            }
-            found
-        };
-        // the surfaces are built on the walls' unworn shape, rebuilt from the case: a restart
-        // (whose walls are worn) gets the same operators bit for bit
-        let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
-        let unworn = spillage_model::walls::build(case, &dir).map_err(|e| unsupported(format!("walls: {e}")))?;
-        if unworn.walls.len() != walls.walls.len() {
-            return Err(unsupported(format!("the state has {} walls, the case {}", walls.walls.len(), unworn.walls.len())));
-        }
-        let surfaces: Vec<WearSurface> = eroding.iter().map(|&i| WearSurface::new(&unworn.walls[i].vertices, &unworn.walls[i].triangles)).collect();
-        match &state.wear {
-            None => {
-                let mut wear = WearState::default();
-                for (&i, surface) in eroding.iter().zip(&surfaces) {
-                    let wall = &walls.walls[i];
-                    let mut w = WallWear::new(i, wall.name.clone(), wall.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
-                    let nodes = surface.nodes(&wall.vertices);
-                    let origin = nodes.iter().fold(Vec3::zeros(), |a, p| a + p) / nodes.len().max(1) as f64;
-                    w.volume_origin = origin.into();
-                    w.initial_volume = surface.cone_volume(&nodes, origin);
-                    if surface.closed {
-                        // outward winding encloses a positive volume; the material is inside
-                        w.material_side = -w.initial_volume.signum();
-                    }
-                    wear.walls.push(w);
-                }
-                state.wear = Some(wear);
-            }
-            Some(wear) => {
-                let same = wear.walls.len() == eroding.len()
-                    && wear.walls.iter().zip(&eroding).zip(&surfaces).all(|((w, &i), s)| w.wall == i && w.node_rate.len() == s.n_nodes);
-                if !same {
-                    return Err(unsupported("the wear state does not match the case's eroding walls (a checkpoint of another case?)"));
-                }
-            }
-        }
-        Ok(ReferenceWear {
-            law,
-            scale: section.modifier * section.acceleration,
-            smoothing: section.smoothing.as_ref().map(|s| (s.diffusivity, s.damping)),
-            receding: section.receding,
-            histogram_max_speed: section.histogram_max_speed,
-            surfaces,
-        })
+        let WearSetup { law, scale, smoothing, receding, histogram_max_speed, surfaces } = WearSetup::new(case, state).map_err(unsupported)?;
+        Ok(ReferenceWear { law, scale, smoothing, receding, histogram_max_speed, surfaces })
     }
 
     /// The surface of each eroding wall (output: node areas, triangles over nodes).
@@ -125,7 +73,7 @@ impl WearPhase for ReferenceWear {
         report: &mut StepReport,
     ) -> Result<(), SolverError> {
         let mut step_impacts = 0u64;
-        let mut totals = Totals::default();
+        let mut totals = WearTotals::default();
         for (w, surface) in wear.walls.iter_mut().zip(&self.surfaces) {
             let wall = &mut walls.walls[w.wall];
             // 1. deposit
@@ -143,41 +91,10 @@ impl WearPhase for ReferenceWear {
                 time: ctx.time_end(),
                 what,
             })?;
-            totals.add(w, surface, self.smoothing.map(|s| s.1), &wall.vertices);
+            totals.add(w, surface, self.smoothing.map(|s| s.1), recession::geometric_removed_volume(surface, w, &wall.vertices));
         }
         wear.impacts += step_impacts;
-        let balance = totals.deposited - totals.receded - totals.in_flight - totals.pending;
-        report.values.extend([
-            ("wear_impacts", wear.impacts as f64),
-            ("wear_deposited", totals.deposited),
-            ("wear_receded", totals.receded),
-            ("wear_in_flight", totals.in_flight),
-            ("wear_geometric", totals.geometric),
-            ("wear_balance_error", balance.abs() / totals.deposited.max(f64::MIN_POSITIVE)),
-            ("wear_max_depth", totals.max_depth),
-        ]);
+        totals.report(wear.impacts, report);
         Ok(())
-    }
-}
-
-/// Sums over the eroding walls for the step report.
-#[derive(Default)]
-struct Totals {
-    deposited: f64,
-    receded: f64,
-    in_flight: f64,
-    pending: f64,
-    geometric: f64,
-    max_depth: f64,
-}
-
-impl Totals {
-    fn add(&mut self, w: &WallWear, surface: &WearSurface, damping: Option<f64>, vertices: &[Vec3]) {
-        self.deposited += w.deposited;
-        self.receded += w.receded;
-        self.in_flight += w.in_flight(&surface.node_area, damping);
-        self.pending += w.pending;
-        self.geometric += recession::geometric_removed_volume(surface, w, vertices);
-        self.max_depth = w.node_depth.iter().fold(self.max_depth, |m, d| m.max(*d));
     }
 }

@@ -7,6 +7,7 @@
 //! geometry loses exactly what the impacts deposited, however coarse the triangles.
 
 use spillage_model::walls::state::{Vec3, Wall};
+use spillage_model::wear::recession::{displacement_scale, inside_out};
 use spillage_model::wear::state::WallWear;
 use spillage_model::wear::surface::WearSurface;
 
@@ -31,31 +32,12 @@ pub fn recede(surface: &WearSurface, nodes: &[Vec3], depth: &[f64], receding: bo
     let movable = |j: usize| !surface.rim[j] && depth[j] > 0.0;
     let displacement: Vec<Vec3> = (0..surface.n_nodes).map(|j| if movable(j) { side * depth[j] * normals[j] } else { Vec3::zeros() }).collect();
     let c = surface.swept_volume_coefficients(nodes, &displacement);
-    let removed = |s: f64| side * (c[0] * s + c[1] * s * s + c[2] * s * s * s);
-    let slope = |s: f64| side * (c[0] + 2.0 * c[1] * s + 3.0 * c[2] * s * s);
-    if !(side != 0.0 && slope(0.0) > 0.0) {
+    let Some(s) = displacement_scale(c, side, target, &w.name)? else {
         // only rim nodes were hit: the volume waits for a step that moves an inner node
         w.pending = target;
         return Ok(());
-    }
-    let mut s = target / slope(0.0);
-    for _ in 0..50 {
-        let step = (removed(s) - target) / slope(s);
-        s -= step;
-        if step.abs() <= 1e-15 * s.abs() {
-            break;
-        }
-    }
-    if !(s.is_finite() && s > 0.0 && (removed(s) - target).abs() <= 1e-12 * target) {
-        return Err(format!("wall `{}`: the receding wall's volume equation has no solution (removed volume {target:e} m³)", w.name));
-    }
-    let moved: Vec<Vec3> = nodes.iter().zip(&displacement).map(|(p, d)| p + s * d).collect();
-    let inside_out = |centre: Vec3| {
-        format!(
-            "wall `{}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or modifier, or widen [wear.smoothing]",
-            w.name, centre.x, centre.y, centre.z
-        )
     };
+    let moved: Vec<Vec3> = nodes.iter().zip(&displacement).map(|(p, d)| p + s * d).collect();
     // a node may move at most half its shortest edge in one step: deeper, its triangles fold
     let mut shortest = vec![f64::INFINITY; surface.n_nodes];
     for t in &surface.triangles {
@@ -67,13 +49,13 @@ pub fn recede(surface: &WearSurface, nodes: &[Vec3], depth: &[f64], receding: bo
         }
     }
     if let Some(j) = (0..surface.n_nodes).find(|&j| s * displacement[j].norm() > 0.5 * shortest[j]) {
-        return Err(inside_out(nodes[j]));
+        return Err(inside_out(&w.name, nodes[j]));
     }
     for t in &surface.triangles {
         let [a, b, cc] = t.map(|n| nodes[n as usize]);
         let [a2, b2, c2] = t.map(|n| moved[n as usize]);
         if (b - a).cross(&(cc - a)).dot(&(b2 - a2).cross(&(c2 - a2))) <= 0.0 {
-            return Err(inside_out((a + b + cc) / 3.0));
+            return Err(inside_out(&w.name, (a + b + cc) / 3.0));
         }
     }
     for (v, &node) in wall.vertices.iter_mut().zip(&surface.node_of_vertex) {
