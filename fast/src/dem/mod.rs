@@ -39,7 +39,7 @@ use arrays::ParticleArrays;
 use integrate::{half_step, Half, StepSums};
 use neighbour_list::{History, NeighbourList};
 use pair_forces::{evaluate_pairs, first_fault, gather, PairContext};
-use wall_forces::{evaluate_walls, WallContext, WallSide};
+use wall_forces::{evaluate_walls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
 /// are listed, and the list lasts until a particle has moved half of it (a tenth of a diameter
@@ -62,6 +62,8 @@ pub struct FastDem {
     list: NeighbourList,
     /// Each particle's wall contacts, in internal order.
     wall_sides: Vec<WallSide>,
+    /// Each particle's near triangles of each wall (particle-major, in internal order).
+    near: Vec<NearTriangles>,
     frames: Vec<WallFrame>,
     sums: StepSums,
     budget: EnergyBudget,
@@ -92,6 +94,7 @@ impl FastDem {
             arrays: ParticleArrays::default(),
             list: NeighbourList::default(),
             wall_sides: Vec::new(),
+            near: Vec::new(),
             frames: Vec::new(),
             sums: StepSums::default(),
             budget: EnergyBudget::default(),
@@ -127,6 +130,9 @@ impl FastDem {
         let n = self.arrays.len();
         self.wall_sides.clear();
         self.wall_sides.resize_with(n, WallSide::default);
+        // the particles are in a new order: their near triangles are found again
+        self.near.clear();
+        self.near.resize(n * self.wall_meshes.len(), NearTriangles::default());
         let records = &particles.contacts;
         for (k, side) in self.wall_sides.iter_mut().enumerate() {
             let id = self.arrays.id[k];
@@ -181,11 +187,21 @@ impl FastDem {
         let mut forces = std::mem::take(&mut arrays.force);
         let mut torques = std::mem::take(&mut arrays.torque);
         let mut counts = std::mem::take(&mut arrays.contacts);
-        (&mut forces, &mut torques, &mut counts, &mut self.wall_sides).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c, side))| {
-            let (mut force, mut torque, pairs) = gather(list, k);
-            evaluate_walls(k, arrays, &wall_context, side, &mut force, &mut torque);
-            (*f, *t, *c) = (force, torque, pairs + side.contacts);
-        });
+        let n_walls = walls.walls.len();
+        if n_walls == 0 {
+            (&mut forces, &mut torques, &mut counts).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c))| {
+                (*f, *t, *c) = gather(list, k);
+            });
+        } else {
+            let near = self.near.par_chunks_mut(n_walls);
+            (&mut forces, &mut torques, &mut counts, &mut self.wall_sides, near).into_par_iter().enumerate().with_min_len(256).for_each(
+                |(k, (f, t, c, side, near))| {
+                    let (mut force, mut torque, pairs) = gather(list, k);
+                    evaluate_walls(k, arrays, &wall_context, near, side, &mut force, &mut torque);
+                    (*f, *t, *c) = (force, torque, pairs + side.contacts);
+                },
+            );
+        }
         (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
 
         // the pair totals feed the energy guard at the step's end and, while fed particles

@@ -31,11 +31,10 @@ pub struct NearTriangles {
     triangles: Vec<u32>,
 }
 
-/// One particle's side of its wall contacts: what persists (near triangles, contact history)
-/// and what the last evaluation found.
+/// One particle's side of its wall contacts: what persists (the contact history) and what the
+/// last evaluation found.
 #[derive(Clone, Debug, Default)]
 pub struct WallSide {
-    near: Vec<NearTriangles>,
     /// The contact history with every wall, in the reference's order (wall, then contact).
     pub history: Vec<ContactRecord>,
     /// Impacts of contacts that began at the last evaluation.
@@ -69,7 +68,8 @@ pub struct WallContext<'a> {
 struct Scratch {
     contacts: ContactScratch,
     old_history: Vec<ContactRecord>,
-    previous: Vec<ContactRecord>,
+    /// Whether each old record has been continued at this sub-step.
+    continued: Vec<bool>,
 }
 
 thread_local! {
@@ -77,21 +77,25 @@ thread_local! {
 }
 
 /// Evaluates particle `k`'s wall contacts into `side`, adding their force and torque to
-/// `force` and `torque` (in the reference's order: wall by wall, contact by contact).
-pub fn evaluate_walls(k: usize, arrays: &ParticleArrays, context: &WallContext, side: &mut WallSide, force: &mut Vec3, torque: &mut Vec3) {
+/// `force` and `torque` (in the reference's order: wall by wall, contact by contact). `near`
+/// holds the particle's near triangles of each wall (kept in one flat array for all particles:
+/// a pointer per particle to chase cost a third of the walls' time).
+pub fn evaluate_walls(
+    k: usize,
+    arrays: &ParticleArrays,
+    context: &WallContext,
+    near: &mut [NearTriangles],
+    side: &mut WallSide,
+    force: &mut Vec3,
+    torque: &mut Vec3,
+) {
     side.impacts.clear();
     (side.power, side.elastic, side.placed, side.contacts, side.max_overlap_ratio, side.fault) = (0.0, 0.0, 0.0, 0, 0.0, None);
-    if side.near.len() != context.walls.len() {
-        side.near.resize(context.walls.len(), NearTriangles::default());
-    }
-    if context.walls.is_empty() {
-        return;
-    }
     let (id, r, x) = (arrays.id[k], arrays.radius[k], arrays.position[k]);
     let fed = id >= context.fed_from;
     // most particles are far from every wall: find that out without touching the buffers
     let mut near_any = false;
-    for (w, (near, mesh)) in side.near.iter_mut().zip(context.meshes).enumerate() {
+    for (w, (near, mesh)) in near.iter_mut().zip(context.meshes).enumerate() {
         near.body = context.frames[w].to_body(x);
         if near.generation != context.generations[w] || !((near.body - near.centre).norm() <= context.skin) {
             mesh.triangles_within(near.body, r + context.skin, &mut near.triangles);
@@ -107,16 +111,16 @@ pub fn evaluate_walls(k: usize, arrays: &ParticleArrays, context: &WallContext, 
         let scratch = &mut *scratch.borrow_mut();
         std::mem::swap(&mut side.history, &mut scratch.old_history);
         side.history.clear();
+        scratch.continued.clear();
+        scratch.continued.resize(scratch.old_history.len(), false);
         for (w, (wall, mesh)) in context.walls.iter().zip(context.meshes).enumerate() {
             let frame = &context.frames[w];
-            let near = &side.near[w];
+            let near = &near[w];
             let body = near.body;
             if near.triangles.is_empty() {
                 continue;
             }
             mesh.sphere_contacts_among(&near.triangles, body, r, &mut scratch.contacts);
-            scratch.previous.clear();
-            scratch.previous.extend(scratch.old_history.iter().filter(|h| h.partner == Partner::Wall(w as u32)).cloned());
             for contact in &scratch.contacts.accepted {
                 let point = frame.to_world(contact.point);
                 let overlap = r - contact.distance;
@@ -133,10 +137,15 @@ pub fn evaluate_walls(k: usize, arrays: &ParticleArrays, context: &WallContext, 
                 let normal = (point - x) / contact.distance;
                 let wall_velocity = wall.surface_velocity(point);
                 let v_rel = arrays.velocity[k] + arrays.spin[k].cross(&(r * normal)) - wall_velocity;
-                let matched = continued_wall_contact(&scratch.previous, &normal);
+                let (old, continued) = (&scratch.old_history, &scratch.continued);
+                let previous = old.iter().enumerate().filter(|(k, h)| h.partner == Partner::Wall(w as u32) && !continued[*k]);
+                let matched = continued_wall_contact(previous, &normal);
                 let new_contact = matched.is_none();
                 let mut record = match matched {
-                    Some(m) => scratch.previous.remove(m),
+                    Some(m) => {
+                        scratch.continued[m] = true;
+                        scratch.old_history[m].clone()
+                    }
                     None => {
                         let p = arrays.particle(k);
                         side.impacts.push(impact(&p, w as u32, contact, body, wall_velocity, normal, context.time));

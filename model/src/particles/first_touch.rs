@@ -85,15 +85,10 @@ pub fn impact(p: &Particle, wall: u32, contact: &MeshContact, body_centre: Vec3,
 /// than 45° (a sphere rolling across a triangle edge keeps its tangential spring).
 pub const SAME_WALL_CONTACT_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// Which of a particle's records with one wall (from the last sub-step) a contact with unit
-/// normal `normal` continues: the one whose normal is closest, within
-/// [`SAME_WALL_CONTACT_COS`]; `None` for a new contact.
-pub fn continued_wall_contact(previous: &[ContactRecord], normal: &Vec3) -> Option<usize> {
-    previous
-        .iter()
-        .enumerate()
-        .map(|(k, r)| (k, r.normal.dot(normal)))
-        .filter(|(_, cos)| *cos > SAME_WALL_CONTACT_COS)
-        .max_by(|x, y| x.1.total_cmp(&y.1))
-        .map(|(k, _)| k)
+/// Which of a particle's records with one wall (from the last sub-step, not yet continued, in
+/// their order, each with its index) a contact with unit normal `normal` continues: the index
+/// of the one whose normal is closest (the last of equals), within [`SAME_WALL_CONTACT_COS`];
+/// `None` for a new contact.
+pub fn continued_wall_contact<'a>(previous: impl Iterator<Item = (usize, &'a ContactRecord)>, normal: &Vec3) -> Option<usize> {
+    previous.map(|(k, r)| (k, r.normal.dot(normal))).filter(|(_, cos)| *cos > SAME_WALL_CONTACT_COS).max_by(|x, y| x.1.total_cmp(&y.1)).map(|(k, _)| k)
 }

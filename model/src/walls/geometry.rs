@@ -152,13 +152,22 @@ pub struct MeshContact {
 /// A wall mesh ready for contact queries.
 pub struct WallMesh {
     trimesh: TriMesh,
+    /// Each triangle's first vertex and unit normal (+z for a degenerate triangle), for the
+    /// plane test that spares most far triangles their projection.
+    planes: Vec<(Vec3, Vec3)>,
 }
 
 impl WallMesh {
     /// Builds the parry mesh; fails on an empty or degenerate mesh.
     pub fn new(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Result<WallMesh, String> {
         let trimesh = TriMesh::new(vertices.iter().map(|v| to_glam(*v)).collect(), triangles.to_vec()).map_err(|e| format!("{e:?}"))?;
-        Ok(WallMesh { trimesh })
+        let planes = (0..trimesh.num_triangles() as u32)
+            .map(|id| {
+                let triangle = trimesh.triangle(id);
+                (from_glam(triangle.a), triangle.normal().map(from_glam).unwrap_or_else(Vec3::z))
+            })
+            .collect();
+        Ok(WallMesh { trimesh, planes })
     }
 
     /// The contacts of a sphere (centre, radius) with the mesh, each surface feature counted
@@ -215,13 +224,19 @@ impl WallMesh {
         let candidates = &mut scratch.candidates;
         candidates.clear();
         scratch.accepted.clear();
+        // a triangle is never nearer than its plane: farther than the radius from the plane (with
+        // a margin far above round-off), it cannot be within the radius
+        let plane_limit = radius * (1.0 + 1e-9);
         for &id in ids {
+            let (corner, normal) = self.planes[id as usize];
+            if (centre - corner).dot(&normal).abs() > plane_limit {
+                continue;
+            }
             let triangle = self.trimesh.triangle(id);
             let (projection, location) = triangle.project_local_point_and_get_location(c, false);
             let point = from_glam(projection.point);
             let distance = (point - centre).norm();
             if distance < radius {
-                let normal = triangle.normal().map(from_glam).unwrap_or_else(Vec3::z);
                 let on_face = matches!(location, TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid);
                 candidates.push(Candidate { contact: MeshContact { triangle: id, point, distance, triangle_normal: normal }, on_face });
             }

@@ -143,7 +143,7 @@ pub fn evaluate(
                 let normal = (point - p.position) / contact.distance;
                 let wall_velocity = wall.surface_velocity(point);
                 let v_rel = p.velocity + p.spin.cross(&(p.radius() * normal)) - wall_velocity;
-                let matched = continued_wall_contact(&previous, &normal);
+                let matched = continued_wall_contact(previous.iter().enumerate(), &normal);
                 let new_contact = matched.is_none();
                 let mut record = match matched {
                     Some(k) => previous.remove(k),
