@@ -2,7 +2,7 @@
 """Reads the runs of run.sh and prints the side-by-side table.
 
   report.py liggghts LOG DUMP PARAMS   one JSON line for a LIGGGHTS run
-  report.py spillage OUTDIR PARAMS     one JSON line for a spillage run
+  report.py spillage OUTDIR PARAMS SOLVER   one JSON line for a spillage run with --solver SOLVER
   report.py table RESULTS.jsonl        the table and the ratios
 
 PARAMS is the `eval`-able output of case_params.py (the box walls and the diameter, to count
@@ -99,7 +99,7 @@ def read_vtp(path):
     return [tuple(values[i : i + 3]) for i in range(0, len(values), 3)]
 
 
-def spillage(out, params_path):
+def spillage(out, params_path, requested):
     p = params(params_path)
     summary = json.load(open(f"{out}/summary.json"))
     with open(f"{out}/series.csv") as f:
@@ -107,18 +107,20 @@ def spillage(out, params_path):
     substeps = int(sum(float(r["substeps"]) for r in rows))
     seconds = summary["timings_s"]["steps"]
     last = rows[-1]
-    mean_z, particles = None, int(p["n_particles"])
+    mean_z = None
+    particles = int(float(last.get("particles") or p["n_particles"]))
     try:
         pvd = open(f"{out}/particles.pvd").read()
         frame = re.findall(r'file="([^"]+)"', pvd)[-1]
         centres = read_vtp(f"{out}/{frame}")
-        particles = len(centres)
         mean_z = sum(c[2] for c in centres) / len(centres)
     except (OSError, IndexError):
         pass
-    solver = summary.get("solver", "?")
+    # the solver that ran: `--solver fast` without a fast DEM runs the reference DEM
+    ran = summary.get("solver", "?")
     row = {
-        "code": f"spillage {solver}",
+        "code": f"spillage {requested}",
+        "ran": ran,
         "procs": int(summary["details"].get("threads", 0)),
         "particles": particles,
         "substeps": substeps,
@@ -143,6 +145,8 @@ def table(path):
     print(f"{'code':<22} {'cores':>5} {'particles':>9} {'sub-steps':>9} {'loop s':>8} {'particle-steps/s':>16}   {'KE end [J]':>10} {'contacts':>8} {'mean z [m]':>11}")
     for r in rows:
         lost = "" if r["particles"] == r["start_particles"] else f"  ({r['start_particles'] - r['particles']} lost)"
+        if r.get("ran") and r["ran"] != r["code"].split()[-1]:
+            lost += f"  (ran: {r['ran']})"
         print(
             f"{r['code']:<22} {r['procs']:>5} {r['particles']:>9} {r['substeps']:>9} {r['seconds']:>8.2f} {r['particle_steps_per_s']:>16.3e}   "
             f"{fmt(r['kinetic_energy'], '10.4e')} {fmt(r['contacts'], '8d')} {fmt(r['mean_z'], '11.7f')}{lost}"
@@ -165,16 +169,17 @@ def table(path):
     for name, a, b, note in ratios:
         if a is not None and b is not None:
             print(f"{name:<30} {a / b:7.3f}  {note}")
-    solvers = {r["code"] for r in rows}
-    if "spillage fast" in solvers and any(r.get("status", "").startswith("failed") for r in rows):
+    if any(r.get("status", "").startswith("failed") for r in rows):
         print("note: a spillage run failed (see its summary.json)")
+    if len({r["substeps"] for r in rows}) > 1:
+        print("note: the runs differ in length (SPILLAGE_STEPS): compare the end states only between runs of equal sub-steps")
 
 
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else ""
     if what == "liggghts" and len(sys.argv) == 5:
         liggghts(*sys.argv[2:])
-    elif what == "spillage" and len(sys.argv) == 4:
+    elif what == "spillage" and len(sys.argv) == 5:
         spillage(*sys.argv[2:])
     elif what == "table" and len(sys.argv) == 3:
         table(sys.argv[2])

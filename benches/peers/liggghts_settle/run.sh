@@ -120,7 +120,9 @@ for procs in ${LIGGGHTS_PROCS:-1 2}; do
   if [ "$procs" = 1 ]; then
     launch=("$liggghts")
   elif command -v mpirun >/dev/null 2>&1; then
-    launch=(mpirun -np "$procs" "$liggghts")
+    # unbound, as spillage's threads: with other work on the machine a rank pinned to a busy
+    # core cannot move to the idle one
+    launch=(mpirun -np "$procs" --bind-to none "$liggghts")
   else
     echo "mpirun not found: LIGGGHTS on $procs processes skipped"
     continue
@@ -147,7 +149,7 @@ if [ -x "$bin" ]; then
     "$bin" run "$spillage_case" --solver "$solver" --threads "$threads" --out "$out" --force > "$out.log" 2>&1 \
       || { echo "spillage failed: tail of $out.log:"; tail -20 "$out.log"; exit 1; }
     grep -h '^note:' "$out.log" | sort -u || true
-    python3 "$here/report.py" spillage "$out" "$work/params.sh" >> "$results"
+    python3 "$here/report.py" spillage "$out" "$work/params.sh" "$solver" >> "$results"
   done
 else
   echo "spillage binary $bin not found: LIGGGHTS only (cargo build --release, or set SPILLAGE_BIN)"
