@@ -172,7 +172,7 @@ def table(path):
     if any(r.get("status", "").startswith("failed") for r in rows):
         print("note: a spillage run failed (see its summary.json)")
     if len({r["substeps"] for r in rows}) > 1:
-        print("note: the runs differ in length (SPILLAGE_STEPS): compare the end states only between runs of equal sub-steps")
+        print("note: the runs differ in length: compare speeds and end states only between runs of equal sub-steps")
 
 
 if __name__ == "__main__":

@@ -21,15 +21,21 @@
 #   SPILLAGE_BIN     the spillage binary (default target/release/spillage, or under
 #                    $CARGO_TARGET_DIR); absent: LIGGGHTS only (build with cargo build --release)
 #   SPILLAGE_RUNS    spillage runs as solver:threads (default "fast:1 fast:2 reference:1")
-#   SPILLAGE_STEPS   outer steps of the spillage runs (default the case's; fewer for a quick
-#                    reference run: particle-steps/s stay comparable, the end states do not)
+#   STEPS            outer steps of every run, both codes (default the case's): fewer for a quick
+#                    look; the contacts are still closing early on, so a short run's
+#                    particle-steps/s are higher than a full run's (compare equal lengths only)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
 case "${1:-10k}" in
   10k | 100k) case_file="$root/cases/bench/settle_box_${1:-10k}.toml" ;;
-  *) case_file=$(cd "$(dirname "$1")" && pwd)/$(basename "$1") ;;
+  *) case_file=$1 ;;
 esac
+if [ ! -f "$case_file" ]; then
+  echo "run.sh: no case file $case_file (give 10k, 100k or a settle-box case file)" >&2
+  exit 2
+fi
+case_file=$(cd "$(dirname "$case_file")" && pwd)/$(basename "$case_file")
 
 liggghts=""
 for name in ${LIGGGHTS_BIN:-} liggghts lmp_auto lmp_serial; do
@@ -56,6 +62,10 @@ results="$work/results.jsonl"
 # every number of the LIGGGHTS input comes from the case file
 python3 "$here/case_params.py" "$case_file" "$work/lattice.data" > "$work/params.sh"
 eval "$(cat "$work/params.sh")"
+if [ -n "${STEPS:-}" ]; then
+  outer_steps=$STEPS
+  total_substeps=$(( STEPS * substeps_per_step ))
+fi
 echo "$case_name: $n_particles spheres, $total_substeps sub-steps of $substep s (from $case_file)"
 
 # thermo ten times a run (its computes cost ~1 % of a step at that rate)
@@ -137,10 +147,10 @@ bin=${SPILLAGE_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/spillage}
 case "$bin" in /*) ;; *) bin="$root/$bin" ;; esac
 if [ -x "$bin" ]; then
   # the case with frames on (the first and the last only; written outside the timed steps) so
-  # the end state can be read, and SPILLAGE_STEPS if given
+  # the end state can be read, and STEPS if given
   spillage_case="$work/$(basename "$case_file")"
   sed -E -e 's/^paraview = false/paraview = true/' \
-    -e "s/^steps = [0-9]+/steps = ${SPILLAGE_STEPS:-$outer_steps}/" "$case_file" > "$spillage_case"
+    -e "s/^steps = [0-9]+/steps = $outer_steps/" "$case_file" > "$spillage_case"
   for run in ${SPILLAGE_RUNS:-fast:1 fast:2 reference:1}; do
     solver=${run%%:*}
     threads=${run##*:}
