@@ -8,7 +8,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-/// Mutations per shipped case (42 cases: 12 600 inputs, ≈ 2 s).
+/// Mutations per shipped case (47 cases: 14 100 inputs, ≈ 2 s).
 const MUTATIONS_PER_CASE: u64 = 300;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): small, deterministic, good enough to pick edits.
@@ -37,7 +37,8 @@ fn shipped_cases() -> Vec<PathBuf> {
         for path in entries {
             if path.is_dir() {
                 walk(&path, out);
-            } else if path.extension().is_some_and(|e| e == "toml") {
+            } else if path.extension().is_some_and(|e| e == "toml") && !path.file_name().is_some_and(|n| n.to_string_lossy().starts_with("fuzz-")) {
+                // (not the mutated copies another test of this file writes beside the originals)
                 out.push(path);
             }
         }
