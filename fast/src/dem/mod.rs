@@ -47,6 +47,10 @@ use wall_forces::{evaluate_walls, NearTriangles, WallContext, WallSide};
 /// cutter head's sub-step).
 const SKIN_FRACTION: f64 = 0.1;
 
+/// Outer steps between two sorts of the particles by cell when nothing else reloads them
+/// (particles that move apart in space also drift apart in memory).
+const RESORT_STEPS: u64 = 20;
+
 fn unsupported(what: impl Into<String>) -> SolverError {
     SolverError::Unsupported(what.into())
 }
@@ -67,6 +71,10 @@ pub struct FastDem {
     frames: Vec<WallFrame>,
     sums: StepSums,
     budget: EnergyBudget,
+    /// Outer steps since the particles were last loaded (and sorted), and the contact records
+    /// the last step stored (both tell whether the state still holds what the arrays hold).
+    steps_since_load: u64,
+    stored_records: usize,
     /// The first id of the particles fed in the current step.
     fed_from: u64,
 }
@@ -98,6 +106,8 @@ impl FastDem {
             frames: Vec::new(),
             sums: StepSums::default(),
             budget: EnergyBudget::default(),
+            steps_since_load: 0,
+            stored_records: usize::MAX,
             fed_from: state.particles.as_ref().map_or(0, |p| p.next_id),
             setup,
         })
@@ -119,6 +129,33 @@ impl FastDem {
             }
         }
         Ok(())
+    }
+
+    /// Takes the particles of the state for this step: when they are the ones the last step
+    /// left (no feed, exit or restart since), the arrays, the neighbour list and the near
+    /// triangles carry on; otherwise, or every [`RESORT_STEPS`] steps so neighbours stay close
+    /// in memory, they are loaded in cell order again.
+    fn take(&mut self, particles: &ParticleState) {
+        let a = &self.arrays;
+        let unchanged = self.steps_since_load < RESORT_STEPS
+            && a.len() == particles.particles.len()
+            && self.stored_records == particles.contacts.len()
+            && a.state_index.iter().enumerate().all(|(k, &i)| {
+                let p = &particles.particles[i];
+                p.id == a.id[k]
+                    && p.position == a.position[k]
+                    && p.velocity == a.velocity[k]
+                    && p.spin == a.spin[k]
+                    && p.contact_force == a.force[k]
+                    && p.contact_torque == a.torque[k]
+            });
+        if unchanged {
+            self.steps_since_load += 1;
+            self.sums.reset(a.len());
+        } else {
+            self.steps_since_load = 0;
+            self.load(particles);
+        }
     }
 
     /// Loads the particles and their contact histories from the state (cell order).
@@ -144,11 +181,12 @@ impl FastDem {
 
     /// The contact history in the state's form: sorted by (particle, partner), a wall's
     /// records in the order they were found.
-    fn store_history(&self, particles: &mut ParticleState) {
+    fn store_history(&mut self, particles: &mut ParticleState) {
         let pairs = self.list.slots.iter().filter_map(|s| s.record.clone());
         let walls = self.wall_sides.iter().flat_map(|s| s.history.iter().cloned());
         let mut records: Vec<ContactRecord> = pairs.chain(walls).collect();
         records.sort_by(|x, y| (x.particle, x.partner).cmp(&(y.particle, y.partner)));
+        self.stored_records = records.len();
         particles.contacts = records;
     }
 
@@ -264,7 +302,7 @@ impl ParticlePhase for FastDem {
             return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
         }
         self.budget.start_step(&particles.particles);
-        self.load(particles);
+        self.take(particles);
         let mut totals = ContactTotals::default();
         let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
         let mut impacts = std::mem::take(&mut particles.impacts);
