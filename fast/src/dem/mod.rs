@@ -113,11 +113,6 @@ impl FastDem {
         })
     }
 
-    /// Neighbour-list builds so far (a run's summary reports them).
-    pub fn neighbour_list_builds(&self) -> u64 {
-        self.list.builds
-    }
-
     /// Rebuilds the collision mesh of every wall that moved its vertices (a receding wall,
     /// wear-model.md §7.4); the particles' near triangles of that wall are found again.
     fn refresh_wall_meshes(&mut self, walls: &WallState) -> Result<(), SolverError> {

@@ -71,8 +71,6 @@ pub struct NeighbourList {
     previous_first: Vec<usize>,
     /// (cell key, internal index), sorted.
     sorted_cells: Vec<(u64, u32)>,
-    /// Builds so far (for the run summary).
-    pub builds: u64,
 }
 
 impl NeighbourList {
@@ -91,7 +89,6 @@ impl NeighbourList {
 
     /// Lists every pair with a gap below the skin at the current positions.
     pub fn build(&mut self, arrays: &ParticleArrays, materials: &MaterialTable, history: History) {
-        self.builds += 1;
         let n = arrays.len();
         let d_max = arrays.diameter.iter().copied().fold(0.0, f64::max);
         let grid = Grid::spanning(arrays.position.iter().copied(), d_max + self.skin);
@@ -205,5 +202,92 @@ fn for_each_partner(grid: &Grid, cells: &[(u64, u32)], arrays: &ParticleArrays, 
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spillage_model::closure::contact::SlipTest;
+    use spillage_model::particles::random::SplitMix64;
+    use spillage_model::particles::settings::MaterialSection;
+    use spillage_model::particles::Particle;
+
+    fn rock() -> MaterialTable {
+        let m =
+            MaterialSection { name: "rock".into(), density: 2650.0, youngs_modulus: 1e7, poisson_ratio: 0.3, softening: 1.0, restitution: 0.5, friction: 0.3 };
+        MaterialTable::new(&[m], SlipTest::Thesis)
+    }
+
+    fn cloud(n: usize, seed: u64, spread: f64) -> Vec<Particle> {
+        let mut random = SplitMix64::new(seed);
+        (0..n as u64)
+            .map(|id| Particle {
+                id,
+                material: 0,
+                diameter: random.uniform(0.01, 0.1),
+                density: 2650.0,
+                position: Vec3::new(random.uniform(-spread, spread), random.uniform(-spread, spread), random.uniform(-spread, spread)),
+                velocity: Vec3::zeros(),
+                spin: Vec3::zeros(),
+                contact_force: Vec3::zeros(),
+                contact_torque: Vec3::zeros(),
+                contacts: 0,
+            })
+            .collect()
+    }
+
+    /// The list holds exactly the pairs whose gap is below the skin (all-pairs search), each
+    /// once, with the smaller id as `a`, for a tenfold size range; and each particle's
+    /// adjacency is in ascending partner id.
+    #[test]
+    fn the_list_holds_exactly_the_pairs_within_the_skin() {
+        let particles = cloud(400, 11, 0.3);
+        let mut arrays = ParticleArrays::default();
+        let skin = 0.01;
+        arrays.load(&particles, 0.1 + skin);
+        let mut list = NeighbourList { skin, ..Default::default() };
+        list.build(&arrays, &rock(), History::Records(&[]));
+        let mut listed: Vec<(u64, u64)> = list.slots.iter().map(|s| (arrays.id[s.a as usize], arrays.id[s.b as usize])).collect();
+        assert!(listed.iter().all(|(a, b)| a < b));
+        listed.sort_unstable();
+        let mut brute = Vec::new();
+        for (i, p) in particles.iter().enumerate() {
+            for q in &particles[i + 1..] {
+                if (q.position - p.position).norm() < p.radius() + q.radius() + skin {
+                    brute.push((p.id, q.id));
+                }
+            }
+        }
+        assert!(brute.len() > 100, "{} pairs: the test needs a dense cloud", brute.len());
+        assert_eq!(listed, brute);
+        for k in 0..arrays.len() {
+            let row = &list.adjacency[list.adjacency_start[k]..list.adjacency_start[k + 1]];
+            let partners: Vec<u64> =
+                row.iter().map(|&(s, is_a)| arrays.id[if is_a { list.slots[s as usize].b } else { list.slots[s as usize].a } as usize]).collect();
+            assert!(partners.windows(2).all(|w| w[0] < w[1]), "particle {}: partners {partners:?}", arrays.id[k]);
+        }
+    }
+
+    /// A particle flung kilometres away or to a non-finite position neither panics the cell
+    /// grid nor hides the pairs of the others.
+    #[test]
+    fn far_and_non_finite_particles_do_not_break_the_grid() {
+        let mut particles = cloud(200, 3, 0.2);
+        particles[0].position = Vec3::new(5e3, -2e3, 1e4);
+        particles[1].position = Vec3::new(f64::NAN, 0.0, 0.0);
+        particles[2].position = Vec3::new(f64::INFINITY, 0.0, 0.0);
+        let mut arrays = ParticleArrays::default();
+        arrays.load(&particles, 0.11);
+        let mut list = NeighbourList { skin: 0.01, ..Default::default() };
+        list.build(&arrays, &rock(), History::Records(&[]));
+        let finite = &particles[3..];
+        let mut brute = 0;
+        for (i, p) in finite.iter().enumerate() {
+            brute += finite[i + 1..].iter().filter(|q| (q.position - p.position).norm() < p.radius() + q.radius() + 0.01).count();
+        }
+        let listed = list.slots.iter().filter(|s| arrays.id[s.a as usize] >= 3 && arrays.id[s.b as usize] >= 3).count();
+        assert!(brute > 20);
+        assert_eq!(listed, brute);
     }
 }
