@@ -65,6 +65,10 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
         (None, _) => None,
     };
     let run = Coupled::new(case, state, fluid, particles).map_err(located)?;
+    let run = match choice {
+        SolverChoice::Fast => run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel),
+        SolverChoice::Reference => run,
+    };
     Ok(Box::new(match wear {
         Some(w) => run.with_wear(w).map_err(located)?,
         None => run,

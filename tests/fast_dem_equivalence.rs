@@ -90,21 +90,25 @@ fn fed_cutter_head() {
     compare_over("cutter_head_feed.toml", 20, 20);
 }
 
-/// The same bits on 1 and 2 threads: every sum is taken in a fixed order.
+/// The same bits on 1 and 2 threads: every sum is taken in a fixed order. The pile (contacts
+/// in a box) and the hindered-settling cloud (two-way coupled: the fast DEM with the kernel
+/// stencils built in parallel).
 #[test]
-fn fast_dem_gives_the_same_bits_on_one_and_two_threads() {
-    let c = case("verification/dem/pile.toml");
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| {
-            let mut run = fast_run(&c).unwrap();
-            for _ in 0..20 {
-                run.step().unwrap();
-            }
-            run.state().clone()
-        })
-    };
-    let (one, two) = (run(1), run(2));
-    let d = diff(&one, &two);
-    assert!(d.mismatches.is_empty() && d.worst_relative() == 0.0, "1 vs 2 threads:\n{}", d.report());
+fn fast_particle_path_gives_the_same_bits_on_one_and_two_threads() {
+    for (path, steps) in [("verification/dem/pile.toml", 20), ("verification/coupling/hindered_settling.toml", 5)] {
+        let c = case(path);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut run = fast_run(&c).unwrap();
+                for _ in 0..steps {
+                    run.step().unwrap();
+                }
+                run.state().clone()
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        let d = diff(&one, &two);
+        assert!(d.mismatches.is_empty() && d.worst_relative() == 0.0, "{path}: 1 vs 2 threads:\n{}", d.report());
+    }
 }

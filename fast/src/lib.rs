@@ -5,6 +5,7 @@
 //! neighbour list with contact histories in its slots, walls through their BVHs) and the wear
 //! phase ([`wear`]) on the same linear solvers.
 
+pub mod coupling;
 pub mod dem;
 pub mod fluid;
 pub mod linear;

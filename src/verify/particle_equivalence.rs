@@ -1,5 +1,5 @@
-//! Fast vs reference particle path, step by step (issue 19): a case runs with the reference DEM
-//! and wear phase and with the fast ones, the same fluid phase (the fast one, bit-deterministic),
+//! Fast vs reference particle path, step by step (issue 19): a case runs with the reference DEM,
+//! wear phase and kernel stencils and with the fast ones, the same fluid phase (the fast one, bit-deterministic),
 //! from the same initial state; after every step the whole states are compared field by field
 //! ([`spillage_model::state_diff`]): particle positions, velocities, spins, contact forces,
 //! the contact histories (same contacts, same tangential springs), the impact log and the
@@ -75,6 +75,10 @@ fn run_with(case: &Case, path: Path) -> Result<Box<dyn Solver>> {
         (Some(_), Path::Fast) => Some(Box::new(FastWear::new(case, &mut state)?)),
     };
     let run = Coupled::new(case, state, fluid, Some(dem))?;
+    let run = match path {
+        Path::Reference => run,
+        Path::Fast => run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel),
+    };
     Ok(match wear {
         Some(wear) => Box::new(run.with_wear(wear)?),
         None => Box::new(run),

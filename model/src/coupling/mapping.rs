@@ -72,11 +72,25 @@ pub struct ParticleMeshMap {
     pub distance_factor: f64,
     pub interface_mask: bool,
     pub min_fluid_fraction: f64,
+    /// How the kernel stencils are built ([`stencils_in_order`] unless a solver sets its own).
+    pub stencil_builder: StencilBuilder,
+}
+
+/// Builds the kernel stencil of every particle (σ = γ d, in particle order). Each stencil is a
+/// function of its own particle and the mesh alone, so any builder gives the same stencils: the
+/// reference builds them one after the other ([`stencils_in_order`]), the fast solver in
+/// parallel.
+pub type StencilBuilder = fn(geo: &KernelGeometry, particles: &[Particle], gamma: f64) -> Vec<Stencil>;
+
+/// The stencils one particle after the other.
+pub fn stencils_in_order(geo: &KernelGeometry, particles: &[Particle], gamma: f64) -> Vec<Stencil> {
+    let mut scratch = Vec::new();
+    particles.iter().map(|p| kernel::stencil(geo, &p.position, p.diameter, gamma, host_cell(geo.mesh, &p.position), &mut scratch)).collect()
 }
 
 /// The host cell of a particle: the cell holding its centre, or, in the sliver between a
 /// sliding interface's polygonal rings where no cell holds it, the cell with the nearest centre.
-fn host_cell(mesh: &Mesh, x: &Vec3) -> usize {
+pub fn host_cell(mesh: &Mesh, x: &Vec3) -> usize {
     mesh.locate(x).unwrap_or_else(|| {
         (0..mesh.n_cells()).min_by(|&a, &b| (mesh.cell_centres[a] - x).norm_squared().total_cmp(&(mesh.cell_centres[b] - x).norm_squared())).unwrap_or(0)
     })
@@ -89,6 +103,7 @@ impl ParticleMeshMap {
             distance_factor: section.distance_factor,
             interface_mask: section.interface_mask,
             min_fluid_fraction: section.min_fluid_fraction,
+            stencil_builder: stencils_in_order,
         }
     }
 
@@ -137,8 +152,7 @@ impl ParticleMeshMap {
     fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch) -> Vec<Stencil> {
         let walls = kernel::wall_faces(mesh);
         let geo = KernelGeometry { mesh, search, wall_faces: &walls, truncate_at_interface: !mesh.interfaces.is_empty() };
-        let mut scratch = Vec::new();
-        particles.iter().map(|p| kernel::stencil(&geo, &p.position, p.diameter, self.distance_factor, host_cell(mesh, &p.position), &mut scratch)).collect()
+        (self.stencil_builder)(&geo, particles, self.distance_factor)
     }
 
     /// Cells within 3γ d_max of a sliding-interface face (call only when [`Self::masking`]).

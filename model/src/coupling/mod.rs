@@ -14,5 +14,5 @@ pub mod kernel;
 pub mod mapping;
 pub mod settings;
 
-pub use mapping::{CellLoad, ParticleMeshMap};
+pub use mapping::{CellLoad, ParticleMeshMap, StencilBuilder};
 pub use settings::{CouplingSection, Feedback, MappingMethod};

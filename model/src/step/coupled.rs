@@ -184,6 +184,15 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         })
     }
 
+    /// Builds the kernel stencils of the mapping with `builder` (the fast solver's parallel one;
+    /// the same stencils as the default, [`crate::coupling::mapping::stencils_in_order`]).
+    pub fn with_stencil_builder(mut self, builder: crate::coupling::StencilBuilder) -> Self {
+        if let Some(map) = self.mapping.as_mut() {
+            map.stencil_builder = builder;
+        }
+        self
+    }
+
     /// Adds the wear phase of a `[wear]` case (the state must hold the wear state it advances,
     /// which the phase's constructor sets up).
     pub fn with_wear(mut self, wear: Box<dyn WearPhase + Send>) -> Result<Self, SolverError> {
