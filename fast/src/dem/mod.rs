@@ -25,14 +25,13 @@ use rayon::prelude::*;
 
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
-use spillage_model::particles::dem_setup::{wall_meshes, DemSetup};
+use spillage_model::particles::dem_setup::{DemSetup, WallMeshes};
 use spillage_model::particles::guards::{EnergyBudget, Fault};
 use spillage_model::particles::substeps::substeps_for;
 use spillage_model::particles::{ContactRecord, ImpactRecord, ParticleState, Partner};
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
-use spillage_model::walls::geometry::WallMesh;
 use spillage_model::walls::state::{WallFrame, WallState};
 
 use arrays::ParticleArrays;
@@ -58,10 +57,7 @@ fn unsupported(what: impl Into<String>) -> SolverError {
 /// The fast DEM: a particle phase of the step driver ([`spillage_model::step::Coupled`]).
 pub struct FastDem {
     setup: DemSetup,
-    wall_meshes: Vec<WallMesh>,
-    /// The wall revision each mesh was built from, and how often it was rebuilt.
-    mesh_revisions: Vec<u64>,
-    mesh_generations: Vec<u64>,
+    wall_meshes: WallMeshes,
     arrays: ParticleArrays,
     list: NeighbourList,
     /// Each particle's wall contacts, in internal order.
@@ -96,9 +92,7 @@ impl FastDem {
         let setup = DemSetup::new(case, state).map_err(unsupported)?;
         let walls = state.walls.as_ref().expect("the setup builds the walls");
         Ok(Self {
-            wall_meshes: wall_meshes(walls).map_err(unsupported)?,
-            mesh_revisions: walls.walls.iter().map(|w| w.revision).collect(),
-            mesh_generations: vec![1; walls.walls.len()],
+            wall_meshes: WallMeshes::new(walls).map_err(unsupported)?,
             arrays: ParticleArrays::default(),
             list: NeighbourList::default(),
             wall_sides: Vec::new(),
@@ -111,19 +105,6 @@ impl FastDem {
             fed_from: state.particles.as_ref().map_or(0, |p| p.next_id),
             setup,
         })
-    }
-
-    /// Rebuilds the collision mesh of every wall that moved its vertices (a receding wall,
-    /// wear-model.md §7.4); the particles' near triangles of that wall are found again.
-    fn refresh_wall_meshes(&mut self, walls: &WallState) -> Result<(), SolverError> {
-        for (i, w) in walls.walls.iter().enumerate() {
-            if self.mesh_revisions[i] != w.revision {
-                self.wall_meshes[i] = WallMesh::new(&w.vertices, &w.triangles).map_err(|m| unsupported(format!("worn wall `{}`: {m}", w.name)))?;
-                self.mesh_revisions[i] = w.revision;
-                self.mesh_generations[i] += 1;
-            }
-        }
-        Ok(())
     }
 
     /// Takes the particles of the state for this step: when they are the ones the last step
@@ -164,7 +145,7 @@ impl FastDem {
         self.wall_sides.resize_with(n, WallSide::default);
         // the particles are in a new order: their near triangles are found again
         self.near.clear();
-        self.near.resize(n * self.wall_meshes.len(), NearTriangles::default());
+        self.near.resize(n * self.wall_meshes.meshes.len(), NearTriangles::default());
         let records = &particles.contacts;
         for (k, side) in self.wall_sides.iter_mut().enumerate() {
             let id = self.arrays.id[k];
@@ -208,9 +189,9 @@ impl FastDem {
             materials: &self.setup.materials,
             wet_fluid: self.setup.wet_fluid,
             walls: &walls.walls,
-            meshes: &self.wall_meshes,
+            meshes: &self.wall_meshes.meshes,
             frames: &self.frames,
-            generations: &self.mesh_generations,
+            generations: &self.wall_meshes.generations,
             skin: self.list.skin,
             time,
             dt,
@@ -289,7 +270,8 @@ impl ParticlePhase for FastDem {
         fluid: &[Option<FluidAtParticle>],
         report: &mut StepReport,
     ) -> Result<Option<ParticleLoad>, SolverError> {
-        self.refresh_wall_meshes(walls)?;
+        // a receding wall's mesh is rebuilt; its generation makes the near triangles stale
+        self.wall_meshes.refresh(walls).map_err(unsupported)?;
         let elastic_start = particles.contacts.is_empty().then_some(0.0);
         let n = substeps_for(&self.setup.section, &self.setup.materials, ctx.dt, &particles.particles, walls);
         let dt_s = ctx.dt / n as f64;

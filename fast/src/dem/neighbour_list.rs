@@ -100,21 +100,6 @@ impl NeighbourList {
         std::mem::swap(&mut self.first, &mut self.previous_first);
         let (cells, skin) = (&self.sorted_cells, self.skin);
         let (previous_slots, previous_first) = (&self.previous_slots, &self.previous_first);
-        let mut counts: Vec<usize> = (0..n)
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|k| {
-                let mut count = 0;
-                for_each_partner(&grid, cells, arrays, skin, k, |_| count += 1);
-                count
-            })
-            .collect();
-        self.first.clear();
-        self.first.push(0);
-        for c in counts.drain(..) {
-            let last = *self.first.last().expect("starts with 0");
-            self.first.push(last + c);
-        }
         self.slots.clear();
         self.slots.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
             let mut found = Vec::new();
@@ -144,7 +129,15 @@ impl NeighbourList {
                 }
             })
         }));
-        debug_assert_eq!(self.slots.len(), *self.first.last().unwrap_or(&0));
+        // the slots come grouped by their lower internal index k (the search's order)
+        self.first.clear();
+        self.first.resize(n + 1, 0);
+        for slot in &self.slots {
+            self.first[slot.a.min(slot.b) as usize + 1] += 1;
+        }
+        for k in 0..n {
+            self.first[k + 1] += self.first[k];
+        }
         self.forces.clear();
         self.forces.resize(self.slots.len(), PairForce::default());
         self.build_adjacency(arrays);

@@ -57,7 +57,33 @@ impl DemSetup {
     }
 }
 
-/// The collision mesh of every wall (`worn`: the words for a mesh rebuilt after wear).
-pub fn wall_meshes(walls: &WallState) -> Result<Vec<WallMesh>, String> {
-    walls.walls.iter().map(|w| WallMesh::new(&w.vertices, &w.triangles).map_err(|m| format!("wall `{}`: {m}", w.name))).collect()
+/// The collision mesh of every wall, rebuilt when the wall's vertices move (a receding wall,
+/// wear-model.md §7.4) so contacts see its worn shape.
+pub struct WallMeshes {
+    pub meshes: Vec<WallMesh>,
+    /// The wall revision each mesh was built from.
+    revisions: Vec<u64>,
+    /// How often each mesh was built (1 at the start): what a particle phase keeps about a mesh
+    /// (near triangles) is stale once this changes.
+    pub generations: Vec<u64>,
+}
+
+impl WallMeshes {
+    pub fn new(walls: &WallState) -> Result<Self, String> {
+        let meshes =
+            walls.walls.iter().map(|w| WallMesh::new(&w.vertices, &w.triangles).map_err(|m| format!("wall `{}`: {m}", w.name))).collect::<Result<_, _>>()?;
+        Ok(Self { meshes, revisions: walls.walls.iter().map(|w| w.revision).collect(), generations: vec![1; walls.walls.len()] })
+    }
+
+    /// Rebuilds the mesh of every wall whose revision moved on since.
+    pub fn refresh(&mut self, walls: &WallState) -> Result<(), String> {
+        for (i, w) in walls.walls.iter().enumerate() {
+            if self.revisions[i] != w.revision {
+                self.meshes[i] = WallMesh::new(&w.vertices, &w.triangles).map_err(|m| format!("worn wall `{}`: {m}", w.name))?;
+                self.revisions[i] = w.revision;
+                self.generations[i] += 1;
+            }
+        }
+        Ok(())
+    }
 }

@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
-use spillage_model::particles::dem_setup::{wall_meshes, DemSetup};
+use spillage_model::particles::dem_setup::{DemSetup, WallMeshes};
 use spillage_model::particles::guards::EnergyBudget;
 use spillage_model::particles::materials::MaterialTable;
 use spillage_model::particles::non_contact::NonContactForces;
@@ -21,7 +21,6 @@ use spillage_model::particles::{ContactRecord, Particle, ParticleState, Partner}
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{ParticleLoad, ParticlePhase, RotorPose, StepContext};
-use spillage_model::walls::geometry::WallMesh;
 use spillage_model::walls::state::WallState;
 
 pub use contacts::ContactSample;
@@ -37,9 +36,7 @@ pub struct ReferenceDem {
     materials: MaterialTable,
     /// Gravity, drag, the rotating frame's fictitious forces and the feedback to the fluid.
     forces: NonContactForces,
-    wall_meshes: Vec<WallMesh>,
-    /// The wall revision each mesh was built from (a receding wall is rebuilt when it moves).
-    mesh_revisions: Vec<u64>,
+    wall_meshes: WallMeshes,
     /// Fluid density and viscosity for the wet restitution (T3.103), if wet.
     wet_fluid: Option<(f64, f64)>,
     /// The load being summed over the sub-steps of a step (time integrals, divided by Δt at
@@ -70,11 +67,9 @@ impl ReferenceDem {
     pub fn new(case: &Case, state: &mut State) -> Result<Self, SolverError> {
         let DemSetup { section, materials, forces, wet_fluid } = DemSetup::new(case, state).map_err(unsupported)?;
         let walls = state.walls.as_ref().expect("the setup builds the walls");
-        let wall_meshes = wall_meshes(walls).map_err(unsupported)?;
-        let mesh_revisions = walls.walls.iter().map(|w| w.revision).collect();
+        let wall_meshes = WallMeshes::new(walls).map_err(unsupported)?;
         Ok(Self {
             wall_meshes,
-            mesh_revisions,
             wet_fluid,
             forces,
             load: ParticleLoad::default(),
@@ -173,13 +168,7 @@ impl ReferenceDem {
     /// Rebuilds the collision mesh of every wall that moved its vertices since (a receding wall,
     /// wear-model.md §7.4), so contacts see its worn shape.
     pub fn refresh_wall_meshes(&mut self, walls: &WallState) -> Result<(), SolverError> {
-        for (i, w) in walls.walls.iter().enumerate() {
-            if self.mesh_revisions[i] != w.revision {
-                self.wall_meshes[i] = WallMesh::new(&w.vertices, &w.triangles).map_err(|m| unsupported(format!("worn wall `{}`: {m}", w.name)))?;
-                self.mesh_revisions[i] = w.revision;
-            }
-        }
-        Ok(())
+        self.wall_meshes.refresh(walls).map_err(unsupported)
     }
 
     /// Contact forces and torques at the current positions (fluid-dem-model.md §7.8).
@@ -188,7 +177,7 @@ impl ReferenceDem {
         let context = contacts::Context {
             materials: &self.materials,
             walls: &walls.walls,
-            meshes: &self.wall_meshes,
+            meshes: &self.wall_meshes.meshes,
             wet_fluid: self.wet_fluid,
             time,
             dt,
