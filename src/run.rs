@@ -154,6 +154,8 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     summary.set_result("final_time", state.time);
     summary.set_result("final_step", state.step as f64);
     summary.set_result("outer_loop_capped_steps", run.outer.capped as f64);
+    summary.set_result("retried_steps", run.outer.retried as f64);
+    summary.set_result("total_dt_halvings", run.outer.halvings as f64);
     if let Some((_, last, _)) = &run.series {
         for (name, value) in &last.values {
             summary.set_result(name, *value);
@@ -175,6 +177,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     if let Some(warning) = run.outer.warning(&case, run.steps) {
         eprintln!("{warning}");
+    }
+    if let Some(note) = run.outer.retry_note(run.steps) {
+        eprintln!("{note}");
     }
     for line in crate::head_report::report(&case, state, &out)?.into_iter().chain(crate::wear_report::report(&case, state, &out)?) {
         eprintln!("{line}");
@@ -217,22 +222,41 @@ struct Running<'a> {
 
 /// Steps whose PIMPLE outer loop stopped at `[numerics] max_outer_iterations` with the pressure
 /// residual still above `p_initial_residual` (issue 15 item 1: a run "completed" with every
-/// step capped and no word about it).
+/// step capped and no word about it), and steps whose fluid diverged and were taken again with
+/// a smaller Δt (`dt_halvings`, adaptive runs).
 #[derive(Default)]
 struct OuterLoop {
     capped: u64,
     worst_residual: f64,
+    retried: u64,
+    halvings: u64,
+    most_halvings: u64,
 }
 
 impl OuterLoop {
     fn record(&mut self, case: &Case, report: &StepReport) {
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        if let Some(h) = value("dt_halvings").filter(|h| *h > 0.0) {
+            self.retried += 1;
+            self.halvings += h as u64;
+            self.most_halvings = self.most_halvings.max(h as u64);
+        }
         if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
             if outer as usize >= case.numerics.max_outer_iterations && residual >= case.numerics.p_initial_residual {
                 self.capped += 1;
                 self.worst_residual = self.worst_residual.max(residual);
             }
         }
+    }
+
+    /// The note to print at the end, if any step was retried.
+    fn retry_note(&self, steps: u64) -> Option<String> {
+        (self.retried > 0).then(|| {
+            format!(
+                "note: the fluid diverged in {} of {steps} steps, which were taken again with a smaller time step (up to {} halvings; `dt_halvings` in series.csv); a smaller max_courant, more PISO correctors or under-relaxation would avoid the retries",
+                self.retried, self.most_halvings
+            )
+        })
     }
 
     /// The warning to print at the end, if any step was capped.

@@ -241,7 +241,9 @@ fn restarts_continue_bit_for_bit() {
     std::fs::create_dir_all(&dir).unwrap();
     let coupled = load("cases/coupling/one_way_rotor.toml");
     let adaptive = taylor_green("max_courant = 0.2", "");
-    for (label, case, split) in [("coupled", &coupled, 60), ("adaptive", &adaptive, 8)] {
+    // a Δt limit left by a retried step (issue 15) is part of the state
+    let retried = diverging_rotor();
+    for (label, case, split) in [("coupled", &coupled, 60), ("adaptive", &adaptive, 8), ("retried", &retried, 10)] {
         let build = |state: Option<State>| -> Box<dyn Solver> {
             let mut state = state.unwrap_or_default();
             let fluid = FastFluid::new(case, spillage::verify::fluid::build_mesh(case).unwrap(), &mut state).unwrap();
@@ -256,7 +258,9 @@ fn restarts_continue_bit_for_bit() {
         for _ in 0..split {
             straight.step().unwrap();
         }
-        if let Some(p) = &straight.state().particles {
+        if label == "retried" {
+            assert!(straight.state().dt_limit.is_some(), "no step was retried before the checkpoint");
+        } else if let Some(p) = &straight.state().particles {
             // what the restart must carry: a turned rotor, live contacts with the blade, a feed
             // part-way through its debt
             assert!(straight.state().rotor_angle > 0.0 && !p.contacts.is_empty() && p.counts.created > 0, "{label}: the checkpoint holds no live history");
@@ -271,7 +275,7 @@ fn restarts_continue_bit_for_bit() {
             assert_eq!(bits(&a), bits(&b), "{label}: step {step} reports differ after the restart");
         }
         assert!(straight.state() == restarted.state(), "{label}: states differ after the restart");
-        if let Some(p) = &straight.state().particles {
+        if let Some(p) = straight.state().particles.as_ref().filter(|_| label == "coupled") {
             // particles left during the restarted half (logged with their route)
             assert!(!p.exits.is_empty(), "{label}: no particle left, the exit bookkeeping went untested");
             assert_eq!(p.counts.created as usize, p.particles.len() + p.exits.len());
@@ -327,4 +331,125 @@ fn one_way_settling_in_still_liquid_reaches_the_analytic_terminal_velocity() {
     assert!(((measured - exact) / exact).abs() < 0.01, "{measured} vs {exact}");
     // the liquid stays at rest to round-off, so the side velocity is round-off of the settling one
     assert!(p.velocity.x.abs() + p.velocity.y.abs() < 1e-9 * measured, "the still liquid pushed the particle sideways: {:?}", p.velocity);
+}
+
+/// The one-way rotor with a viscous liquid (ν 0.05 m²/s: diffusion number ν Δt/Δr² ≈ 1.8 at
+/// Δt 0.04 s) and one PISO corrector, stepped adaptively with `max_dt` 0.04 s: its first step
+/// diverges and converges after four halvings (issue 15), while the feed has owed particles to
+/// the rejected attempt.
+fn diverging_rotor() -> Case {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/coupling/one_way_rotor.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let edits = [
+        ("dt = 0.005\n", "max_courant = 5.0\nmax_dt = 0.04\n"),
+        ("kinematic_viscosity = 5e-4\n", "kinematic_viscosity = 0.05\n"),
+        ("piso_correctors = 2\n", "piso_correctors = 1\n"),
+    ];
+    let mut edited = text.clone();
+    for (from, to) in edits {
+        assert!(edited.contains(from), "one_way_rotor.toml changed: `{from}` is gone; update this test");
+        edited = edited.replace(from, to);
+    }
+    Case::from_toml(&edited, &path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A fluid phase that fails its step `fail_at` once, after doing all of its work (so the fluid
+/// state, the phase's caches and the particles have moved): a divergence at a step where the
+/// flow, the feed and the contacts are under way.
+struct FailsOnce<F> {
+    inner: F,
+    fail_at: u64,
+    failed: bool,
+}
+
+impl<F: FluidPhase> FluidPhase for FailsOnce<F> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+    fn mesh(&self) -> &spillage_model::mesh::Mesh {
+        self.inner.mesh()
+    }
+    fn place_rotor(&mut self, pose: Option<&spillage_model::step::RotorPose>) -> Result<(), spillage_model::solver::SolverError> {
+        self.inner.place_rotor(pose)
+    }
+    fn advance(
+        &mut self,
+        ctx: &spillage_model::step::StepContext,
+        fluid: &mut FluidState,
+        load: Option<&spillage_model::coupling::CellLoad>,
+        report: &mut StepReport,
+    ) -> Result<spillage_model::step::FluidStepOutcome, spillage_model::solver::SolverError> {
+        let outcome = self.inner.advance(ctx, fluid, load, report)?;
+        if ctx.step == self.fail_at && !self.failed {
+            self.failed = true;
+            return Err(spillage_model::solver::SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what: "failed on purpose".into() });
+        }
+        Ok(outcome)
+    }
+    fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> spillage_model::fluid::sampling::FluidSample<'a> {
+        self.inner.sample_source(fluid)
+    }
+    fn courant_rate(&self, fluid: &FluidState) -> f64 {
+        self.inner.courant_rate(fluid)
+    }
+    fn rewind(&mut self, dt_old: f64) {
+        self.inner.rewind(dt_old)
+    }
+}
+
+/// A step the driver retried leaves no trace of its rejected attempt: the retried run equals,
+/// bit for bit and for 20 more steps, a run that took the halved Δt directly (and was given the
+/// same Δt limit). The rejected attempt is a whole step (fluid advanced, particles fed and
+/// moved) at step 25 of the one-way rotor run adaptively: particles in the liquid and against
+/// the blade, a feed under way. Both pairings of phases are checked, since each phase rewinds
+/// its own caches (the fluid's last Δt, the DEMs' first fed id, the fast DEM's arrays).
+#[test]
+fn a_retried_step_leaves_no_trace_of_the_rejected_attempt() {
+    use spillage_fast::dem::FastDem;
+    use spillage_model::step::ParticlePhase;
+    const FAIL_AT: u64 = 25;
+    let adaptive = |file: &str, dt_line: &str| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(dt_line), "{file} changed; update this test");
+        let max_dt = dt_line.trim_start_matches("dt = ");
+        Case::from_toml(&text.replace(dt_line, &format!("max_courant = 0.01\nmax_dt = {max_dt}")), &path).unwrap_or_else(|e| panic!("{e}"))
+    };
+    // the one-way rotor (a feed, contacts with the turning blade) and the two-way hindered
+    // settling cloud (the fluid acceleration force, which reads the fluid phase's last Δt)
+    let cases = [adaptive("cases/coupling/one_way_rotor.toml", "dt = 0.005\n"), adaptive("cases/verification/coupling/hindered_settling.toml", "dt = 0.002\n")];
+    fn check<F: FluidPhase, P: ParticlePhase>(label: &str, case: &Case, fluid: impl Fn(&Case, &mut State) -> F, dem: impl Fn(&Case, &mut State) -> P) {
+        let build = |fail_at| {
+            let mut state = State::default();
+            let inner = fluid(case, &mut state);
+            let p = dem(case, &mut state);
+            Coupled::new(case, state, Some(FailsOnce { inner, fail_at, failed: false }), Some(p)).unwrap()
+        };
+        let (mut retried, mut direct) = (build(FAIL_AT), build(0));
+        let mut report = StepReport::default();
+        for _ in 1..FAIL_AT {
+            retried.advance(&mut report).unwrap();
+            direct.advance(&mut report).unwrap();
+        }
+        let dt = retried.next_dt().unwrap();
+        retried.advance(&mut report).unwrap();
+        assert_eq!(report.values.iter().find(|v| v.0 == "dt_halvings").unwrap().1, 1.0, "{label}");
+        direct.advance_by(0.5 * dt, &mut report).unwrap();
+        direct.parts_mut().2.dt_limit = retried.state().dt_limit;
+        assert!(retried.state() == direct.state(), "{label}: the retried step differs from the direct one");
+        for step in FAIL_AT + 1..=FAIL_AT + 20 {
+            retried.advance(&mut report).unwrap();
+            direct.advance(&mut report).unwrap();
+            assert!(retried.state() == direct.state(), "{label}: states differ at step {step}");
+        }
+        let p = retried.state().particles.as_ref().unwrap();
+        assert!(p.particles.len() > 5, "{label}: {} particles: the DEM's rewind went untested", p.particles.len());
+    }
+    let fast_fluid = |c: &Case, s: &mut State| FastFluid::new(c, spillage::verify::fluid::build_mesh(c).unwrap(), s).unwrap();
+    let reference_fluid = |c: &Case, s: &mut State| ReferenceFluid::new(c, spillage::verify::fluid::build_mesh(c).unwrap(), s).unwrap();
+    for case in &cases {
+        let name = &case.case.name;
+        check(&format!("{name}, fast"), case, fast_fluid, |c, s| FastDem::new(c, s).unwrap());
+        check(&format!("{name}, reference"), case, reference_fluid, |c, s| ReferenceDem::new(c, s).unwrap());
+    }
 }

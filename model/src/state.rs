@@ -20,6 +20,9 @@ pub struct State {
     /// Largest Courant number of the last step (the adaptive Δt of the next step follows from
     /// it, so a restart continues with the same steps).
     pub courant: f64,
+    /// Largest Δt the adaptive rule may take: set below a Δt at which a step diverged, and
+    /// raised by 1 % per step after ([`crate::step::time_step`], issue 15).
+    pub dt_limit: Option<f64>,
     pub fluid: Option<FluidState>,
     pub particles: Option<ParticleState>,
     pub walls: Option<WallState>,

@@ -260,6 +260,13 @@ impl ParticlePhase for FastDem {
         "fast"
     }
 
+    /// The next step loads the particles and their histories from the restored state (the
+    /// arrays hold the rejected step's).
+    fn rewind(&mut self, particles: &ParticleState) {
+        self.fed_from = particles.next_id;
+        self.steps_since_load = RESORT_STEPS;
+    }
+
     /// One outer step in DEM sub-steps of equal length, as the reference takes it
     /// (`ReferenceDem::advance`): the same sub-step count, the same guards and report.
     fn advance(

@@ -307,7 +307,7 @@ impl FastFluid {
         self.counts = SolveCounts::default();
         self.pressure_solver.new_step();
         let mut outer_iterations = 0;
-        let mut last_residual = f64::NAN;
+        let (mut first_outer_residual, mut last_residual) = (f64::NAN, f64::NAN);
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
             // a. boundary velocities and ∇u*
@@ -361,6 +361,9 @@ impl FastFluid {
             }
             // e. convergence
             last_residual = first_residual;
+            if outer_iterations == 1 {
+                first_outer_residual = first_residual;
+            }
             let finite = b.velocity.iter().all(|c| c.iter().all(|x| x.is_finite()));
             if !first_residual.is_finite() || !finite {
                 return Err(SolverError::Diverged { step: self.step_number, time: self.step_time_end, what: "non-finite velocity or pressure".into() });
@@ -409,7 +412,13 @@ impl FastFluid {
         if let Some(model) = &self.turbulence {
             report.values.extend_from_slice(model.values());
         }
-        Ok(FluidStepOutcome { courant_max: diagnostics.courant_max })
+        Ok(FluidStepOutcome {
+            courant_max: diagnostics.courant_max,
+            outer_iterations,
+            outer_capped: outer_iterations >= self.numerics.max_outer_iterations && !(last_residual < self.numerics.p_initial_residual),
+            first_residual: first_outer_residual,
+            last_residual,
+        })
     }
 }
 
@@ -451,6 +460,10 @@ impl FluidPhase for FastFluid {
         let result = if rayon::current_thread_index().is_some() { self.advance_timed(report) } else { rayon::scope(|_| self.advance_timed(report)) };
         std::mem::swap(&mut self.fluid, fluid);
         result
+    }
+
+    fn rewind(&mut self, dt_old: f64) {
+        self.dt_old = dt_old;
     }
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {

@@ -13,6 +13,11 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
     scalar("time", state.time, 0.0)?;
     scalar("dt", state.dt, 0.0)?;
     scalar("courant", state.courant, 0.0)?;
+    if let Some(limit) = state.dt_limit {
+        if !(limit.is_finite() && limit > 0.0) {
+            return Err(format!("dt_limit = {limit} s: expected a finite step > 0"));
+        }
+    }
     if !state.rotor_angle.is_finite() {
         return Err(format!("rotor_angle = {} rad: expected a finite angle", state.rotor_angle));
     }

@@ -18,16 +18,18 @@
 //!    ([`WearPhase::advance`], `[wear]`); the impact log is emptied every step;
 //! 9. clock: t, step, Δt and the rotor angle of the state move to tⁿ⁺¹.
 //!
-//! A step that returns an error leaves the run unusable (the particles may already have moved
-//! while the fluid and the clock have not): the caller stops and reports, as `spillage run`
-//! does, keeping what was written before.
+//! A step that returns an error from [`Coupled::advance_by`] leaves the run unusable (the
+//! particles may already have moved while the fluid and the clock have not): the caller stops
+//! and reports, as `spillage run` does, keeping what was written before. [`Coupled::advance`]
+//! keeps the state of the step's start instead, and takes a step whose fluid diverged again
+//! with a smaller Δt ([`retry`]).
 //!
 //! Fluid-only and particle-only runs are the same driver with one phase [`Absent`]. Because the
 //! driver is generic, any fluid phase pairs with any particle phase (tests run the reference
 //! fluid with either particle phase to localise a disagreement).
 
 use super::context::StepContext;
-use super::phases::{Absent, FluidPhase, ParticleLoad, ParticlePhase, WearPhase};
+use super::phases::{Absent, FluidPhase, FluidStepOutcome, ParticleLoad, ParticlePhase, WearPhase};
 use super::rotor_pose::RotorPose;
 use super::time_step::TimeStepControl;
 use crate::case::Case;
@@ -42,6 +44,8 @@ use crate::particles::bookkeeping::{self, ExitRoute};
 use crate::particles::settings::ParticlesSection;
 use crate::solver::{CouplingOutput, Solver, SolverError, StepReport};
 use crate::state::State;
+
+mod retry;
 
 /// A fluid phase, a particle phase, or both, and the state they advance.
 pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
@@ -71,6 +75,10 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     /// Per fluid mesh patch: a wall or symmetry plane, which particles do not leave through
     /// ([`exit_route`]).
     closed_patches: Vec<bool>,
+    /// What the fluid's last step reported of its outer loop and Courant number.
+    fluid_outcome: FluidStepOutcome,
+    /// Whether the failure of the last step came from the fluid phase ([`retry`]).
+    failed_in_fluid: bool,
     label: &'static str,
 }
 
@@ -180,6 +188,8 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             head,
             wear: None,
             wear_in_case: case.wear.is_some(),
+            fluid_outcome: FluidStepOutcome::default(),
+            failed_in_fluid: false,
             label,
         })
     }
@@ -246,14 +256,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         self.time_step.next_dt(&self.state, courant_rate)
     }
 
-    /// One step of the size the case asks for.
-    pub fn advance(&mut self, report: &mut StepReport) -> Result<(), SolverError> {
-        let dt = self.next_dt()?;
-        self.advance_by(dt, report)
-    }
-
-    /// One step of `dt` (tests impose step sequences with it).
+    /// One step of `dt` (tests impose step sequences with it). A diverging step is an error,
+    /// not retried ([`Coupled::advance`] retries); `in_fluid` then says whether it was the
+    /// fluid that failed, which a smaller step may cure.
     pub fn advance_by(&mut self, dt: f64, report: &mut StepReport) -> Result<(), SolverError> {
+        self.failed_in_fluid = false;
         if !(dt.is_finite() && dt > 0.0) {
             return Err(unsupported(format!("time step {dt} s: expected a finite step > 0")));
         }
@@ -389,6 +396,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 return Err(diverged(format!("{what}, before the fluid step")));
             }
             let cells = self.mapping.as_ref().and(self.cell_load.as_ref());
+            self.failed_in_fluid = true;
             // a failed solve says where in the run it failed
             let outcome = phase.advance(&ctx, fluid, cells, report).map_err(|e| match e {
                 SolverError::LinearSolve(what) => SolverError::LinearSolve(format!("step {}, t = {:e} s: {what}", ctx.step, ctx.time_end())),
@@ -400,6 +408,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             if let Some(what) = non_finite_fluid(phase.mesh(), fluid) {
                 return Err(diverged(what));
             }
+            if let Some(what) = outcome.outer_loop_failure() {
+                return Err(diverged(what));
+            }
+            self.failed_in_fluid = false;
+            self.fluid_outcome = outcome;
             self.state.courant = outcome.courant_max;
             if let Some((head, faces)) = &self.head {
                 let q = faces.flux(&fluid.flux);

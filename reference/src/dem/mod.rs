@@ -196,6 +196,11 @@ impl ParticlePhase for ReferenceDem {
         "reference"
     }
 
+    /// The contact history is rebuilt from the state every step; only the first fed id is kept.
+    fn rewind(&mut self, particles: &ParticleState) {
+        self.fed_from = particles.next_id;
+    }
+
     /// One outer step in DEM sub-steps of equal length; the rotor walls follow the step's rotor
     /// pose at every sub-step.
     fn advance(

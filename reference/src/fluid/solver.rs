@@ -173,7 +173,7 @@ impl ReferenceFluid {
         let mut boundary_flux: Vec<f64> = geo.boundary.iter().enumerate().map(|(b, face)| prescribed[b].unwrap_or(fluid.flux[face.face])).collect();
 
         let mut outer_iterations = 0;
-        let mut last_residual = f64::NAN;
+        let (mut first_outer_residual, mut last_residual) = (f64::NAN, f64::NAN);
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
             let boundary_u = momentum::boundary_velocities(&inputs, &u);
@@ -210,6 +210,9 @@ impl ReferenceFluid {
                 }
             }
             last_residual = first_residual;
+            if outer_iterations == 1 {
+                first_outer_residual = first_residual;
+            }
             if !first_residual.is_finite() || u.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
                 return Err(SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what: "non-finite velocity or pressure".into() });
             }
@@ -287,7 +290,13 @@ impl ReferenceFluid {
             time: ctx.time_end(),
         };
         self.turbulence.correct(&turbulence_inputs, fluid, &mut report.values)?;
-        Ok(FluidStepOutcome { courant_max: courant })
+        Ok(FluidStepOutcome {
+            courant_max: courant,
+            outer_iterations,
+            outer_capped: outer_iterations >= self.numerics.max_outer_iterations && !(last_residual < self.numerics.p_initial_residual),
+            first_residual: first_outer_residual,
+            last_residual,
+        })
     }
 }
 
@@ -360,6 +369,10 @@ impl FluidPhase for ReferenceFluid {
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
         FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old }
+    }
+
+    fn rewind(&mut self, dt_old: f64) {
+        self.dt_old = dt_old;
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every
