@@ -456,11 +456,11 @@ mod tests {
     fn motion_is_free_or_held_and_a_bad_value_is_located() {
         let path = std::path::Path::new("held.toml");
         assert_eq!(Case::from_toml(HELD, path).unwrap().particles.unwrap().motion, Motion::Held);
-        let free = HELD.replace("motion = \"held\"\n", "");
+        let free = HELD.replace("\nmotion = \"held\"\n", "\n");
         assert_eq!(Case::from_toml(&free, path).unwrap().particles.unwrap().motion, Motion::Free);
-        let bad = HELD.replace("motion = \"held\"", "motion = \"hovering\"");
+        let bad = HELD.replace("\nmotion = \"held\"", "\nmotion = \"hovering\"");
         let e = Case::from_toml(&bad, path).unwrap_err();
-        let line = bad.lines().position(|l| l.contains("hovering")).unwrap() + 1;
+        let line = bad.lines().position(|l| l.starts_with("motion")).unwrap() + 1;
         assert_eq!(e.line, Some(line), "{e}");
         let text = e.to_string();
         assert!(text.contains("motion") && text.contains("hovering") && text.contains("free") && text.contains("held"), "{text}");
