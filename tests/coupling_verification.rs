@@ -60,6 +60,22 @@ fn hydrostatic_suspension() {
     check("hydrostatic_suspension.toml");
 }
 
+/// U-33 static (issue 13 item 5): particles held at their hindered terminal settling velocity,
+/// one per cell, give −dp/dy = ρ_m g to solver tolerance and a fluid at rest for each uniform
+/// mapping; with the literal feedback the fluid carries ρ_c g.
+#[test]
+fn hydrostatic_held() {
+    check("hydrostatic_held.toml");
+}
+
+/// Issue 13 item 6: the momentum budget of a closed box closes with the §8.4 split counted (to
+/// the outer-loop convergence) and without it to the split error; the literal feedback breaks
+/// it; the volume and particle budgets hold at every step.
+#[test]
+fn closed_box_budgets() {
+    check("closed_box_budgets.toml");
+}
+
 fn with_fluid<F: FluidPhase>(case: &Case, make: impl FnOnce(&Case, &mut State) -> F) -> Coupled<F, ReferenceDem> {
     let mut state = State::default();
     let fluid = make(case, &mut state);

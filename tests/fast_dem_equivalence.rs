@@ -62,6 +62,8 @@ fn coupled_cases() {
     for path in [
         "verification/coupling/settling_single.toml",
         "verification/coupling/hindered_settling.toml",
+        // held particles (`[particles] motion = "held"`): no kick, no drift, the same load
+        "verification/coupling/hydrostatic_held.toml",
         "coupling/one_way_cavity.toml",
         "coupling/interface_crossing.toml",
     ] {

@@ -88,6 +88,22 @@ const ABOUT: &[(&str, About)] = &[
         ),
     ),
     (
+        "coupling_held",
+        a(
+            "a uniform suspension held at its hindered terminal settling velocity in a closed column (one sphere per cell, [particles] motion = \"held\"): the pressure gradient, bottom to top and cell by cell, and the fluid speed, per mapping; the kernel mapping asserted non-uniform; the literal T3.2 feedback must give ρ_c g",
+            "ρ_m g = (α_p ρ_p + (1 − α_p) ρ_c) g to solver tolerance, the water at rest",
+            "fluid-dem-model.md §2.6, §12 (U-33)",
+        ),
+    ),
+    (
+        "coupling_budgets",
+        a(
+            "a settling suspension in a closed box, step by step: fluid + particle momentum against gravity, the walls' pressure and viscous force and the §8.4 split; Σ α_c V + Σ V_p against the box volume; particles in the box or logged; the literal T3.2 feedback must break the momentum budget",
+            "momentum conservation of the discrete equations (exact up to the PIMPLE outer-loop convergence with the split counted); the box volume",
+            "fluid-dem-model.md §2.1, §2.6, §8.4; issue 13 verification item 6",
+        ),
+    ),
+    (
         "coupling_interface",
         a(
             "a sphere settling through a stationary sliding interface, with and without the interface mask: velocity disturbance and continuity errors",

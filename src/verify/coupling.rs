@@ -1,7 +1,9 @@
 //! Verification of the two-way coupling (issue 13; particle-verification.md §2, §4;
 //! fluid-dem-model.md §12 U-33; wear-model.md §12.2): settling of one sphere (P1) for every
 //! mapping and mesh, Stokes settling and its time-step order, hindered settling of a cloud (P3)
-//! against the Di Felice closure (Table 6.3), and the pressure a suspension carries.
+//! against the Di Felice closure (Table 6.3), the pressure a suspension carries (settling, and
+//! held at terminal settling: [`held`]), and the momentum, volume and particle budgets of a
+//! closed box ([`budgets`]).
 //!
 //! The runs take the fast or the reference solver, fluid and DEM ([`FluidSolver`]); on their own
 //! they take the fast one, as the reference fluid would take ~10× longer on the finer levels,
@@ -32,10 +34,13 @@ use spillage_reference::fluid::ReferenceFluid;
 
 use super::{CheckRow, FluidSolver};
 
+mod budgets;
+mod held;
 mod interface;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic", "coupling_interface"];
+pub const CHECKS: &[&str] =
+    &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic", "coupling_held", "coupling_budgets", "coupling_interface"];
 
 /// Runs `check`; with `plots`, also draws its figure(s) there (settling velocity against time with
 /// the analytic curve; cloud velocity against α_p with the closure and Richardson–Zaki).
@@ -49,6 +54,8 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>, sol
         "coupling_stokes" => stokes(case, plots, solver),
         "coupling_hindered" => hindered(case, full, plots, solver),
         "coupling_hydrostatic" => hydrostatic(case, plots, solver),
+        "coupling_held" => held::held_suspension(case, plots, solver),
+        "coupling_budgets" => budgets::budgets(case, solver),
         "coupling_interface" => interface_crossing(case, full, solver),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }

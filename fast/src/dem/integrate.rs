@@ -53,14 +53,16 @@ pub fn half_step(
     let known = origins.len() == arrays.len();
     let ParticleArrays { state_index, diameter, density, mass, inertia, volume, position, velocity, spin, force, torque, .. } = arrays;
     let h = 0.5 * dt;
+    // held particles (`[particles] motion`) take no kick and no drift
+    let motion = forces.motion;
     let displacement = (velocity, spin, position, &mut sums.load, &mut sums.work)
         .into_par_iter()
         .enumerate()
         .with_min_len(512)
         .map(|(k, (v, w, x, load, work))| {
             if half == Half::First {
-                *v += h * force[k] / mass[k];
-                *w += h * torque[k] / inertia[k];
+                *v = motion.kick(*v, h * force[k] / mass[k]);
+                *w = motion.kick(*w, h * torque[k] / inertia[k]);
             }
             let before = v.norm_squared();
             let (after, share) = forces.update(*v, *x, diameter[k], density[k], volume[k], fluid.get(state_index[k]).and_then(|f| f.as_ref()), h);
@@ -74,7 +76,7 @@ pub fn half_step(
             *work = 0.5 * mass[k] * (v.norm_squared() - before);
             match half {
                 Half::First => {
-                    *x += dt * *v;
+                    *x = motion.drift(*x, *v, dt);
                     if known {
                         (*x - origins[k]).norm_squared()
                     } else {
@@ -82,8 +84,8 @@ pub fn half_step(
                     }
                 }
                 Half::Second => {
-                    *v += h * force[k] / mass[k];
-                    *w += h * torque[k] / inertia[k];
+                    *v = motion.kick(*v, h * force[k] / mass[k]);
+                    *w = motion.kick(*w, h * torque[k] / inertia[k]);
                     0.0
                 }
             }

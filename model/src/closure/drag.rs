@@ -148,6 +148,23 @@ pub fn fluid_force_step(law: DragLaw, velocity: Vec3, diameter: f64, particle_de
     }
 }
 
+/// The fluid forces on a particle held at `velocity` (`[particles] motion = "held"`): drag
+/// K (u_c|p − u_p) with K at the held slip, and the fluid-acceleration force
+/// (1 + C_AM) V ρ_c Du_c/Dt without the added mass of the particle's own acceleration, which
+/// is zero. The velocity stays; the forces are what the fluid receives in return (§8.4).
+pub fn held_fluid_force(law: DragLaw, velocity: Vec3, diameter: f64, fluid: &FluidAtParticle) -> FluidForceStep {
+    let volume = std::f64::consts::PI * diameter.powi(3) / 6.0;
+    let slip = (fluid.velocity - velocity).norm();
+    let k = drag_factor(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
+    FluidForceStep {
+        velocity,
+        drag_factor: k,
+        drag: k * (fluid.velocity - velocity),
+        fluid_acceleration_force: (1.0 + ADDED_MASS_COEFFICIENT) * volume * fluid.density * fluid.material_acceleration,
+        slip_reynolds: slip * diameter / fluid.kinematic_viscosity,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -195,6 +212,21 @@ mod tests {
         let lhs = rho * volume * (step.velocity - u) / dt;
         let rhs = step.drag + step.fluid_acceleration_force + volume * (rho - fluid.density) * g;
         assert!((lhs - rhs).norm() < 1e-12 * lhs.norm(), "{lhs} vs {rhs}");
+    }
+
+    /// A held particle keeps its velocity; at its hindered terminal slip the drag carries its
+    /// submerged weight, and at any slip the fluid receives −(F_d + F_AM + F_pg).
+    #[test]
+    fn a_held_particle_keeps_its_velocity_and_feels_the_drag() {
+        let fluid = FluidAtParticle { fluid_fraction: 0.9, ..FluidAtParticle::still(998.2, 1.0034e-6) };
+        let u = Vec3::new(0.0, -0.5, 0.0);
+        let step = held_fluid_force(DragLaw::BrownLawler, u, 0.01, &fluid);
+        assert_eq!(step.velocity, u);
+        assert_eq!(step.fluid_acceleration_force, Vec3::zeros());
+        assert!((step.drag - step.drag_factor * (-u)).norm() < 1e-15);
+        assert!(step.drag.y > 0.0, "the drag opposes the held settling");
+        // the fluid receives K u_p − F_fa, minus K u_c implicit: −F_d at u_c = 0
+        assert!((step.explicit_feedback() + step.drag).norm() < 1e-15);
     }
 
     /// U-10: initial acceleration from rest, (ρ_p−ρ_c) g / (ρ_p + C_AM ρ_c) = 5.14565 m/s².

@@ -52,6 +52,7 @@ impl DemSetup {
             gravity: Vec3::from(case.physics.gravity),
             rotating_frame: RotatingFrame::of_physics(&case.physics).map_err(|e| format!("`{}` = {}: expected {}", e.key, e.value, e.allowed))?,
             feedback: case.coupling.as_ref().map(|c| c.feedback),
+            motion: section.motion,
         };
         Ok(Self { section, materials, forces, wet_fluid })
     }

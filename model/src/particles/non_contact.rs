@@ -2,8 +2,9 @@
 //! fluid-force update of one particle (fluid-dem-model.md §5.10), gravity, the rotating frame's
 //! fictitious forces (wear-model.md §2.6 [R]), and what the fluid receives in return (§8.4).
 
+use super::settings::Motion;
 use super::state::Vec3;
-use crate::closure::drag::{fluid_force_step, DragLaw, FluidAtParticle};
+use crate::closure::drag::{fluid_force_step, held_fluid_force, DragLaw, FluidAtParticle};
 use crate::closure::rotating_frame::{dry_particle_update, fluid_force_step_in_rotating_frame, RotatingFrame};
 use crate::coupling::Feedback;
 use crate::step::ParticleLoad;
@@ -17,6 +18,8 @@ pub struct NonContactForces {
     pub rotating_frame: Option<RotatingFrame>,
     /// With `[coupling]`: which forces the fluid receives.
     pub feedback: Option<Feedback>,
+    /// `[particles] motion`: held particles keep their velocity ([`Motion::Held`]).
+    pub motion: Motion,
 }
 
 /// A particle's share of the step's load from one update of length `dt`, as time integrals
@@ -43,6 +46,9 @@ impl NonContactForces {
     /// ambient) nothing supplies buoyancy and the full per-unit-mass form applies
     /// ([`dry_particle_update`]). Either way the Coriolis part is trapezoidal in u_p, which
     /// keeps the sub-step symmetric (and second order without drag).
+    ///
+    /// A held particle ([`Motion::Held`]) keeps `velocity`; its load share is that of the fluid
+    /// forces at the held velocity ([`held_fluid_force`]), fed back as for a free particle.
     pub fn update(
         &self,
         velocity: Vec3,
@@ -54,13 +60,15 @@ impl NonContactForces {
         dt: f64,
     ) -> (Vec3, Option<LoadShare>) {
         let Some(fluid) = fluid else {
-            let velocity = match &self.rotating_frame {
-                None => velocity + dt * self.gravity,
-                Some(frame) => dry_particle_update(frame, velocity, position, self.gravity, dt),
+            let velocity = match (&self.rotating_frame, self.motion) {
+                (_, Motion::Held) => velocity,
+                (None, Motion::Free) => velocity + dt * self.gravity,
+                (Some(frame), Motion::Free) => dry_particle_update(frame, velocity, position, self.gravity, dt),
             };
             return (velocity, None);
         };
         let step = match &self.rotating_frame {
+            _ if self.motion == Motion::Held => held_fluid_force(self.drag_law, velocity, diameter, fluid),
             None => fluid_force_step(self.drag_law, velocity, diameter, density, fluid, self.gravity, dt),
             Some(frame) => fluid_force_step_in_rotating_frame(frame, self.drag_law, velocity, position, diameter, density, fluid, self.gravity, dt),
         };

@@ -36,6 +36,50 @@ pub struct ParticlesSection {
     pub ambient: Option<AmbientFluid>,
     /// Particles whose centre leaves this box are removed and counted as escaped.
     pub domain: Option<BoxRegion>,
+    /// How the DEM moves the particles ([`Motion`]): `"free"` (the default) or `"held"`.
+    #[serde(default)]
+    pub motion: Motion,
+}
+
+/// `[particles] motion`: whether the DEM moves the particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Motion {
+    /// Newton's second law with every force (fluid-dem-model.md §5.7, §7).
+    #[default]
+    Free,
+    /// Every particle keeps its initial position and velocity for the whole run: nothing
+    /// moves it, yet the fluid forces are evaluated with that velocity and, two-way coupled,
+    /// fed back (spec §12 U-33: a suspension "held at terminal settling"). A particle given its
+    /// terminal settling velocity then hands its submerged weight to the fluid through the
+    /// drag, while α_c stays constant in time (no ∂α_c/∂t, no return flow). Its added-mass
+    /// force has no particle-acceleration part (the particle does not accelerate); contact
+    /// and rotating-frame forces are computed but move nothing. Both DEMs take the kicks and
+    /// drifts from [`Motion::kick`] and [`Motion::drift`] and the fluid force from
+    /// [`crate::particles::non_contact::NonContactForces::update`], so they hold particles
+    /// identically.
+    Held,
+}
+
+impl Motion {
+    /// The velocity (or spin) `v` after a kick by `change`: unchanged when held. Free motion
+    /// returns `v + change`, the same bits as `v += change`.
+    #[inline]
+    pub fn kick(self, v: super::state::Vec3, change: super::state::Vec3) -> super::state::Vec3 {
+        match self {
+            Motion::Free => v + change,
+            Motion::Held => v,
+        }
+    }
+
+    /// The position `x` after a drift over `dt` with velocity `v`: unchanged when held.
+    #[inline]
+    pub fn drift(self, x: super::state::Vec3, v: super::state::Vec3, dt: f64) -> super::state::Vec3 {
+        match self {
+            Motion::Free => x + dt * v,
+            Motion::Held => x,
+        }
+    }
 }
 
 impl ParticlesSection {
@@ -396,5 +440,29 @@ impl AmbientFluid {
     fn validate(&self) -> Result<(), FieldError> {
         positive("particles.ambient.density", self.density, "kg/m³")?;
         positive("particles.ambient.kinematic_viscosity", self.kinematic_viscosity, "m²/s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Motion;
+    use crate::case::Case;
+
+    const HELD: &str = include_str!("../../../cases/verification/coupling/hydrostatic_held.toml");
+
+    /// `[particles] motion` is `"free"` (the default) or `"held"`; another value is refused at
+    /// its line, naming the key and what is allowed.
+    #[test]
+    fn motion_is_free_or_held_and_a_bad_value_is_located() {
+        let path = std::path::Path::new("held.toml");
+        assert_eq!(Case::from_toml(HELD, path).unwrap().particles.unwrap().motion, Motion::Held);
+        let free = HELD.replace("\nmotion = \"held\"\n", "\n");
+        assert_eq!(Case::from_toml(&free, path).unwrap().particles.unwrap().motion, Motion::Free);
+        let bad = HELD.replace("\nmotion = \"held\"", "\nmotion = \"hovering\"");
+        let e = Case::from_toml(&bad, path).unwrap_err();
+        let line = bad.lines().position(|l| l.starts_with("motion")).unwrap() + 1;
+        assert_eq!(e.line, Some(line), "{e}");
+        let text = e.to_string();
+        assert!(text.contains("motion") && text.contains("hovering") && text.contains("free") && text.contains("held"), "{text}");
     }
 }

@@ -136,20 +136,22 @@ impl ReferenceDem {
         rotor_end: Option<&RotorPose>,
         fluid: FluidSampler<'_>,
     ) {
+        // held particles (`[particles] motion`) take no kick and no drift
+        let motion = self.forces.motion;
         for (i, p) in particles.particles.iter_mut().enumerate() {
-            p.velocity += 0.5 * dt * p.contact_force / p.mass();
-            p.spin += 0.5 * dt * p.contact_torque / p.moment_of_inertia();
+            p.velocity = motion.kick(p.velocity, 0.5 * dt * p.contact_force / p.mass());
+            p.spin = motion.kick(p.spin, 0.5 * dt * p.contact_torque / p.moment_of_inertia());
             let f = fluid(i, p);
             self.fluid_forces(i, p, f.as_ref(), 0.5 * dt);
-            p.position += dt * p.velocity;
+            p.position = motion.drift(p.position, p.velocity, dt);
         }
         walls.place(end_time, rotor_end);
         self.evaluate_contacts(particles, walls, end_time, dt);
         for (i, p) in particles.particles.iter_mut().enumerate() {
             let f = fluid(i, p);
             self.fluid_forces(i, p, f.as_ref(), 0.5 * dt);
-            p.velocity += 0.5 * dt * p.contact_force / p.mass();
-            p.spin += 0.5 * dt * p.contact_torque / p.moment_of_inertia();
+            p.velocity = motion.kick(p.velocity, 0.5 * dt * p.contact_force / p.mass());
+            p.spin = motion.kick(p.spin, 0.5 * dt * p.contact_torque / p.moment_of_inertia());
         }
     }
 
