@@ -418,6 +418,7 @@ impl FastFluid {
             outer_capped: outer_iterations >= self.numerics.max_outer_iterations && !(last_residual < self.numerics.p_initial_residual),
             first_residual: first_outer_residual,
             last_residual,
+            under_relaxed: self.numerics.relax_velocity < 1.0 || self.numerics.relax_pressure < 1.0,
         })
     }
 }

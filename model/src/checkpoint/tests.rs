@@ -95,7 +95,7 @@ fn a_forged_payload_with_a_nan_time_is_refused_before_any_step() {
     write(&path, &case, &sample()).unwrap();
     let forged = State { time: f64::NAN, ..sample() };
     let payload = postcard::to_stdvec(&(Fingerprint::of_case(&case), &forged)).unwrap();
-    let mut bytes = b"spillage-checkpoint 5 demo\n".to_vec();
+    let mut bytes = format!("spillage-checkpoint {VERSION} demo\n").into_bytes();
     bytes.extend((payload.len() as u64).to_le_bytes());
     bytes.extend(&payload);
     bytes.extend(fnv1a(&payload).to_le_bytes());

@@ -28,6 +28,8 @@ pub struct FluidStepOutcome {
     /// OpenFOAM does).
     pub first_residual: f64,
     pub last_residual: f64,
+    /// Whether the outer loop under-relaxes velocity or pressure.
+    pub under_relaxed: bool,
 }
 
 /// A capped outer loop of at least [`JUDGED_OUTER_ITERATIONS`] whose last normalised pressure
@@ -40,13 +42,16 @@ pub const NO_PROGRESS_RESIDUAL: f64 = 0.1;
 
 /// Shorter loops are not judged: with a few outer iterations (PISO-like settings, the
 /// turbulence cases' 3 to 5) the last initial residual stays high in a fast transient without
-/// harm, and a loop of one measures its residual before any correction.
+/// harm, and a loop of one measures its residual before any correction. Nor are under-relaxed
+/// loops: they are SIMPLE iterations toward a steady state spread over steps, whose residual
+/// falls across steps rather than within one (the Poiseuille checks take Δt = 100 s with 0.7 /
+/// 0.3 and end their first steps at 0.57).
 pub const JUDGED_OUTER_ITERATIONS: usize = 10;
 
 impl FluidStepOutcome {
     /// What went wrong when the outer loop made no progress (see [`NO_PROGRESS_RESIDUAL`]).
     pub fn outer_loop_failure(&self) -> Option<String> {
-        let judged = self.outer_capped && self.outer_iterations >= JUDGED_OUTER_ITERATIONS;
+        let judged = self.outer_capped && self.outer_iterations >= JUDGED_OUTER_ITERATIONS && !self.under_relaxed;
         (judged && !(self.last_residual < NO_PROGRESS_RESIDUAL)).then(|| {
             format!(
                 "the PIMPLE outer loop did not converge: after {} outer iterations the pressure residual is {:.3e}, from {:.3e} at the first (a converging loop ends far below {NO_PROGRESS_RESIDUAL})",
@@ -254,6 +259,7 @@ mod tests {
             outer_capped,
             first_residual,
             last_residual,
+            under_relaxed: false,
         };
         // issue 15's divergence, a residual that grew, a non-finite one
         assert!(outcome(30, true, 1.0, 0.645).outer_loop_failure().is_some());
@@ -265,5 +271,6 @@ mod tests {
         assert!(outcome(30, false, 1.0, 0.9).outer_loop_failure().is_none());
         assert!(outcome(3, true, 1.0, 0.3).outer_loop_failure().is_none());
         assert!(outcome(1, true, 1.0, 1.0).outer_loop_failure().is_none());
+        assert!(FluidStepOutcome { under_relaxed: true, ..outcome(100, true, 1.0, 0.57) }.outer_loop_failure().is_none());
     }
 }
