@@ -14,7 +14,8 @@
 //! sub-steps follow the collision time, not Δt.
 //!
 //! The state of the step's start is kept by cloning it before every step of a run with a fluid
-//! (one copy of the state; measured on the shipped cutter head in the issue 15 note).
+//! (one copy of the state: 2.4 MB for the shipped cutter head, whose steps take 0.17 s, so well
+//! under 1 % of a step).
 
 use super::*;
 use crate::step::time_step::DT_LIMIT_GROWTH;
