@@ -80,6 +80,49 @@ impl CheckRow {
     }
 }
 
+/// How a row judges its value, as its constructor filled it in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Criterion {
+    /// |value − reference| ≤ tolerance.
+    Absolute,
+    /// |value − reference| / |reference| ≤ tolerance.
+    Relative,
+    /// |value| ≤ tolerance.
+    AtMost,
+    /// value ≥ reference (orders; `error` is the shortfall).
+    AtLeast,
+    /// No bound: the value is reported (an infinite tolerance).
+    Reported,
+}
+
+impl CheckRow {
+    /// The row's criterion, read back from its numbers (the constructors above are the only
+    /// ways rows are made, and each leaves its own signature).
+    pub fn criterion(&self) -> Criterion {
+        let absolute = (self.value - self.reference).abs();
+        if self.tolerance.is_infinite() {
+            Criterion::Reported
+        } else if self.tolerance == 0.0 && self.error == (self.reference - self.value).max(0.0) {
+            Criterion::AtLeast
+        } else if self.reference == 0.0 && self.error == self.value.abs() {
+            Criterion::AtMost
+        } else if (self.error - absolute).abs() > 1e-9 * self.error.abs().max(absolute) {
+            Criterion::Relative
+        } else {
+            Criterion::Absolute
+        }
+    }
+
+    /// `pass`, `FAIL`, or `reported` for a row without a bound.
+    pub fn verdict(&self) -> &'static str {
+        match (self.criterion(), self.pass) {
+            (Criterion::Reported, _) => "reported",
+            (_, true) => "pass",
+            (_, false) => "FAIL",
+        }
+    }
+}
+
 /// The fluid solver a check runs with (the particles are always the reference DEM).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FluidSolver {

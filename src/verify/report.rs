@@ -171,15 +171,12 @@ fn sig(v: f64, digits: usize) -> String {
 }
 
 /// The absolute tolerance of a row on its value: `tolerance` for absolute rows, tolerance ×
-/// |reference| for relative ones (recognised by their error), none for unbounded rows and lower
-/// bounds.
+/// |reference| for relative ones, none for unbounded rows and lower bounds.
 fn absolute_tolerance(r: &CheckRow) -> Option<f64> {
     if !(r.tolerance.is_finite() && r.tolerance > 0.0) {
         return None;
     }
-    let absolute = (r.value - r.reference).abs();
-    let relative_row = (r.error - absolute).abs() > 1e-9 * r.error.abs().max(absolute) && r.reference != 0.0;
-    Some(if relative_row { r.tolerance * r.reference.abs() } else { r.tolerance })
+    Some(if r.criterion() == super::Criterion::Relative { r.tolerance * r.reference.abs() } else { r.tolerance })
 }
 
 /// `v` rounded to a tenth of the row's absolute tolerance (three significant digits when the
@@ -356,6 +353,7 @@ fn case_section(out: &mut String, c: &CaseResult, numbers: Numbers) {
         let tolerance = if r.tolerance.is_infinite() { "(reported)".to_string() } else { cell(r.tolerance, r, Numbers::Measured) };
         let error = match numbers {
             Numbers::Measured => sig(r.error, 3),
+            Numbers::Rounded if r.criterion() == super::Criterion::Reported => "—".to_string(),
             Numbers::Rounded if r.pass => "within".to_string(),
             Numbers::Rounded => "outside".to_string(),
         };
@@ -366,7 +364,7 @@ fn case_section(out: &mut String, c: &CaseResult, numbers: Numbers) {
             r.solver,
             cell(r.value, r, numbers),
             cell(r.reference, r, numbers),
-            if r.pass { "pass" } else { "**FAIL**" }
+            if r.verdict() == "FAIL" { "**FAIL**" } else { r.verdict() }
         );
     }
     let _ = writeln!(out);
