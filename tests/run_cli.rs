@@ -569,3 +569,45 @@ fn an_adaptive_run_retries_diverging_steps_with_a_smaller_step() {
     assert_eq!(summary["results"]["retried_steps"].as_f64(), Some(retried as f64), "{summary}");
     assert_eq!(summary["results"]["total_dt_halvings"].as_f64(), Some(halvings.iter().sum::<f64>()), "{summary}");
 }
+
+/// Issue 15 item 5: every TOML snippet of README.md is accepted by `spillage check`. A snippet
+/// with a `[case]` table is a whole case; any other is a fragment, put into the shipped cutter
+/// head (its tables replace the head's tables of the same name).
+#[test]
+fn every_toml_snippet_of_the_readme_is_accepted_by_check() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let mut snippets = Vec::new();
+    let mut current: Option<String> = None;
+    for line in readme.lines() {
+        match (&mut current, line.trim_start()) {
+            (None, l) if l.starts_with("```toml") => current = Some(String::new()),
+            (Some(s), l) if l.starts_with("```") => {
+                snippets.push(std::mem::take(s));
+                current = None;
+            }
+            (Some(s), _) => {
+                s.push_str(line);
+                s.push('\n');
+            }
+            _ => {}
+        }
+    }
+    assert!(!snippets.is_empty(), "README.md has no ```toml snippet: this test checks nothing");
+    let base: toml::Table = std::fs::read_to_string(root.join("cases/cutter_head.toml")).unwrap().parse().unwrap();
+    let dir = scratch("readme-snippets");
+    for (k, snippet) in snippets.iter().enumerate() {
+        let table: toml::Table = snippet.parse().unwrap_or_else(|e| panic!("README snippet {k} is not TOML: {e}\n{snippet}"));
+        let case = if table.contains_key("case") {
+            table
+        } else {
+            let mut merged = base.clone();
+            merged.extend(table);
+            merged
+        };
+        let path = dir.join(format!("snippet_{k}.toml"));
+        std::fs::write(&path, toml::to_string(&case).unwrap()).unwrap();
+        let out = spillage(&["check", path.to_str().unwrap()]);
+        assert!(out.status.success(), "README snippet {k} is refused by `spillage check`:\n{snippet}\n{}", String::from_utf8_lossy(&out.stderr));
+    }
+}
