@@ -6,6 +6,7 @@
 //! velocity u = HbyA − rAU ∇P.
 
 use rayon::prelude::*;
+use spillage_model::coupling::mask::{band_weight, BandRate};
 use spillage_model::fluid::conditions::Condition;
 use spillage_model::fluid::settings::PressureWallCondition;
 use spillage_model::mesh::Vec3;
@@ -263,6 +264,10 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     let (coefficient, alpha_predicted, r_au, h_by_a) = (&work.pressure_laplacian_coefficient, &work.alpha_predicted_link_flux, &work.r_au, &work.h_by_a);
     let (out_diagonal, out_values, out_rhs) =
         (Out::of(&mut work.pressure_matrix.diag), Out::of(&mut work.pressure_matrix.val), Out::of(&mut work.pressure_rhs));
+    // the interface mask's band: its net ∂α/∂t V and the weight it is spread by (serial, in
+    // cell order, as the reference: the same bits on any thread count)
+    let weight = |c: usize| band_weight(alpha.current[c], alpha.old[c], alpha.old_old[c], vol[c]);
+    let band = particles.map_or_else(BandRate::default, |p| BandRate::of(&p.masked, |c| alpha.rate_times_volume(time, c, vol[c]), weight));
     par_for(disc.n_cells(), |c| {
         let a = alpha.current;
         let mut diag = 0.0;
@@ -290,8 +295,11 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
                 _ => {}
             }
         }
-        // ∂α/∂t V, left out where the interface mask covers the cell (T4.54)
-        if !particles.is_some_and(|p| p.masked[c]) {
+        // ∂α/∂t V; where the interface mask covers the cell, its share of the band's net rate
+        // (T4.54; spillage_model::coupling::mask)
+        if particles.is_some_and(|p| p.masked[c]) {
+            rhs -= band.share(weight(c));
+        } else {
             rhs -= alpha.rate_times_volume(time, c, vol[c]);
         }
         unsafe {

@@ -85,7 +85,7 @@ impl<'a> VolumeFractions<'a> {
 
 /// The particle load of a two-way coupled step in kinematic form (spec §8.4): per cell the
 /// implicit drag C_j/ρ [m³/s] for the momentum diagonal, the explicit force F_j/ρ [m⁴/s²] for
-/// its source, and whether the interface mask drops ∂α/∂t from the pressure equation (T4.54).
+/// its source, and whether the interface mask covers a cell (T4.54; spillage_model::coupling::mask).
 #[derive(Clone, Debug, Default)]
 pub struct ParticleSources {
     pub implicit_drag: Vec<f64>,

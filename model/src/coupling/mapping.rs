@@ -48,7 +48,8 @@ pub struct CellLoad {
     /// F_j = Σ_n w_j,n F_n [N]: the explicit part of the particles' force on the fluid of cell j
     /// (spec §8.4, F_explicit).
     pub explicit_force: Vec<Vec3>,
-    /// Cells whose ∂α_c/∂t is left out of the pressure equation (T4.54): within the kernel
+    /// Cells whose ∂α_c/∂t the pressure equation replaces by their share of the band's net rate
+    /// (T4.54 and [`super::mask`]: the redistribution inside the band is left out): within the kernel
     /// support 3γ d_max of a sliding interface, when `[coupling] interface_mask` is on.
     pub masked: Vec<bool>,
 }

@@ -54,8 +54,9 @@ pub struct CouplingSection {
     pub distance_factor: f64,
     #[serde(default)]
     pub feedback: Feedback,
-    /// Leave ∂α_c/∂t out of the pressure equation within the kernel support 3σ of a sliding
-    /// interface (T4.54, §6.7). Default on, as in the thesis.
+    /// Mask ∂α_c/∂t in the pressure equation within the kernel support 3σ of a sliding
+    /// interface (T4.54, §6.7): the band keeps only its net rate ([`super::mask`]). Default on,
+    /// as in the thesis.
     #[serde(default = "yes")]
     pub interface_mask: bool,
     /// Single-sphere drag law (`"brown_lawler"`, the thesis' choice; `"schiller_naumann"`;

@@ -27,6 +27,7 @@
 //! and left out of H (spec T4.24).
 
 use spillage_model::closure::rotating_frame::RotatingFrame;
+use spillage_model::coupling::mask::{band_weight, BandRate};
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
@@ -80,13 +81,17 @@ impl StepInputs<'_> {
         (c0 * self.alpha[cell] + c1 * self.alpha_old[cell] + c2 * self.alpha_old_old[cell]) * self.volumes[cell] / self.dt
     }
 
-    /// ∂α/∂t · V as the pressure equation takes it: zero in the cells the interface mask
-    /// covers (T4.54, §6.7).
-    pub fn alpha_rate_volume_in_pressure(&self, cell: usize) -> f64 {
-        match self.load {
-            Some(load) if load.masked[cell] => 0.0,
-            _ => self.alpha_rate_volume(cell),
-        }
+    /// ∂α/∂t · V per cell as the pressure equation takes it (T4.54, §6.7): in the cells the
+    /// interface mask covers, their share of the band's net rate (spillage_model::coupling::mask:
+    /// the redistribution inside the band is left out, the volume entering or leaving it is not).
+    pub fn alpha_rates_volume_in_pressure(&self) -> Vec<f64> {
+        let n = self.volumes.len();
+        let Some(load) = self.load.filter(|l| l.masked.iter().any(|m| *m)) else {
+            return (0..n).map(|c| self.alpha_rate_volume(c)).collect();
+        };
+        let weight = |c: usize| band_weight(self.alpha[c], self.alpha_old[c], self.alpha_old_old[c], self.volumes[c]);
+        let band = BandRate::of(&load.masked, |c| self.alpha_rate_volume(c), weight);
+        (0..n).map(|c| if load.masked[c] { band.share(weight(c)) } else { self.alpha_rate_volume(c) }).collect()
     }
 }
 

@@ -136,8 +136,8 @@ pub fn correct(inputs: &StepInputs, system: &MomentumSystem, prescribed: &[Optio
                 (_, None) => {}
             }
         }
-        for (c, r) in rhs.iter_mut().enumerate() {
-            *r -= inputs.alpha_rate_volume_in_pressure(c);
+        for (r, rate) in rhs.iter_mut().zip(inputs.alpha_rates_volume_in_pressure()) {
+            *r -= rate;
         }
         if !inputs.conditions.has_fixed_pressure {
             // reference level P = 0 in cell 0 (OpenFOAM setReference): exact for a compatible

@@ -28,7 +28,13 @@ fn without_interface(case: &Case) -> Result<Case> {
 
 pub(super) fn interface_crossing(base: &Case, full: bool, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
-    let case = if full { refined(base, number(base, "full_refinement")? as usize)? } else { base.clone() };
+    // `--full` refines r and θ by `full_refinement`; a case without it (the one already at the
+    // thesis' d_p/Δx = 5, interface_crossing_fine.toml) has no finer level and runs as it is
+    let refinement = params(base)?.contains_key("full_refinement").then(|| number(base, "full_refinement")).transpose()?;
+    let case = match refinement {
+        Some(factor) if full => refined(base, factor as usize)?,
+        _ => base.clone(),
+    };
     let volume = sphere(&case, 0.5)?.volume();
     let plain = run(&without_interface(&case)?, solver)?;
     let mut rows = Vec::new();
