@@ -221,7 +221,7 @@ struct Running<'a> {
 }
 
 /// Steps whose PIMPLE outer loop stopped at `[numerics] max_outer_iterations` with the pressure
-/// residual still above `p_initial_residual` (issue 15 item 1: a run "completed" with every
+/// residual still above `p_initial_residual` (`outer_capped` in the series; issue 15 item 1: a run "completed" with every
 /// step capped and no word about it), and steps whose fluid diverged and were taken again with
 /// a smaller Δt (`dt_halvings`, adaptive runs).
 #[derive(Default)]
@@ -234,18 +234,16 @@ struct OuterLoop {
 }
 
 impl OuterLoop {
-    fn record(&mut self, case: &Case, report: &StepReport) {
+    fn record(&mut self, report: &StepReport) {
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         if let Some(h) = value("dt_halvings").filter(|h| *h > 0.0) {
             self.retried += 1;
             self.halvings += h as u64;
             self.most_halvings = self.most_halvings.max(h as u64);
         }
-        if let (Some(outer), Some(residual)) = (value("outer_iterations"), value("p_initial_residual")) {
-            if outer as usize >= case.numerics.max_outer_iterations && residual >= case.numerics.p_initial_residual {
-                self.capped += 1;
-                self.worst_residual = self.worst_residual.max(residual);
-            }
+        if let (Some(1.0), Some(residual)) = (value("outer_capped"), value("p_initial_residual")) {
+            self.capped += 1;
+            self.worst_residual = self.worst_residual.max(residual);
         }
     }
 
@@ -331,7 +329,7 @@ impl Running<'_> {
             };
             self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));
         }
-        self.outer.record(self.case, report);
+        self.outer.record(report);
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         if let (Some(substeps), Some(particles)) = (value("substeps"), value("particles")) {
             self.particle_substeps += substeps * particles;

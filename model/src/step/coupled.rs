@@ -412,6 +412,8 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 return Err(diverged(what));
             }
             self.failed_in_fluid = false;
+            // issue 15: a step whose outer loop stopped at its cap unconverged, per step
+            report.values.push(("outer_capped", if outcome.outer_capped { 1.0 } else { 0.0 }));
             self.fluid_outcome = outcome;
             self.state.courant = outcome.courant_max;
             if let Some((head, faces)) = &self.head {
