@@ -29,7 +29,7 @@
 //! fluid with either particle phase to localise a disagreement).
 
 use super::context::StepContext;
-use super::phases::{Absent, FluidPhase, FluidStepOutcome, ParticleLoad, ParticlePhase, WearPhase};
+use super::phases::{Absent, FluidPhase, ParticleLoad, ParticlePhase, WearPhase};
 use super::rotor_pose::RotorPose;
 use super::time_step::TimeStepControl;
 use crate::case::Case;
@@ -75,8 +75,6 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     /// Per fluid mesh patch: a wall or symmetry plane, which particles do not leave through
     /// ([`exit_route`]).
     closed_patches: Vec<bool>,
-    /// What the fluid's last step reported of its outer loop and Courant number.
-    fluid_outcome: FluidStepOutcome,
     /// Whether the failure of the last step came from the fluid phase ([`retry`]).
     failed_in_fluid: bool,
     label: &'static str,
@@ -188,7 +186,6 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             head,
             wear: None,
             wear_in_case: case.wear.is_some(),
-            fluid_outcome: FluidStepOutcome::default(),
             failed_in_fluid: false,
             label,
         })
@@ -414,7 +411,6 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             self.failed_in_fluid = false;
             // issue 15: a step whose outer loop stopped at its cap unconverged, per step
             report.values.push(("outer_capped", if outcome.outer_capped { 1.0 } else { 0.0 }));
-            self.fluid_outcome = outcome;
             self.state.courant = outcome.courant_max;
             if let Some((head, faces)) = &self.head {
                 let q = faces.flux(&fluid.flux);

@@ -9,7 +9,7 @@
 //!   the one the case's Δt implies.
 //!
 //! What counts as a diverged fluid: a failed linear solve, a non-finite field or Courant number,
-//! or an outer loop that made no progress ([`FluidStepOutcome::outer_loop_failure`]). A failing
+//! or an outer loop that made no progress ([`crate::step::FluidStepOutcome::outer_loop_failure`]). A failing
 //! particle phase (a DEM fault) or a case the solver cannot run is not retried: the DEM's
 //! sub-steps follow the collision time, not Δt.
 //!
@@ -56,7 +56,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                     return Ok(());
                 }
                 Ok(()) => {
-                    let numbers = StepNumbers { courant: self.fluid_outcome.courant_max, diffusion: self.diffusion_number(smaller) };
+                    let numbers = StepNumbers { courant: self.state.courant, diffusion: self.diffusion_number(smaller) };
                     self.rewind(&start);
                     return Err(fixed_step_diverged(&start, dt, &diverged, smaller, numbers));
                 }
