@@ -1,5 +1,6 @@
-//! Which cells have their centre within a radius of a point: a hashed bucket grid of the cell
-//! centres at their current position (the rotor zone moves, so it is rebuilt every step).
+//! Which cells have their centre (or any part) within a radius of a point: a hashed bucket grid
+//! of the cell centres at their current position (the rotor zone moves, so it is rebuilt every
+//! step).
 
 use std::collections::HashMap;
 
@@ -9,6 +10,10 @@ use crate::mesh::{Mesh, Vec3};
 pub struct CellSearch {
     bucket: f64,
     bins: HashMap<[i64; 3], Vec<usize>>,
+    /// Per cell, the largest distance from its centre to a corner.
+    reach: Vec<f64>,
+    /// The largest of `reach`.
+    largest_reach: f64,
 }
 
 impl CellSearch {
@@ -19,7 +24,10 @@ impl CellSearch {
         for (c, x) in mesh.cell_centres.iter().enumerate() {
             bins.entry(Self::key(bucket, x)).or_default().push(c);
         }
-        Self { bucket, bins }
+        let reach: Vec<f64> =
+            mesh.cell_points.iter().zip(&mesh.cell_centres).map(|(ids, x)| ids.iter().map(|&p| (mesh.points[p] - x).norm()).fold(0.0, f64::max)).collect();
+        let largest_reach = reach.iter().copied().fold(0.0, f64::max);
+        Self { bucket, bins, reach, largest_reach }
     }
 
     fn key(bucket: f64, x: &Vec3) -> [i64; 3] {
@@ -41,5 +49,22 @@ impl CellSearch {
                 }
             }
         }
+    }
+
+    /// Appends to `out` every cell that may have a part within `radius` of `point`: its centre
+    /// lies within `radius` plus its reach (centre to farthest corner). Unsorted.
+    pub fn reaching(&self, mesh: &Mesh, point: &Vec3, radius: f64, out: &mut Vec<usize>) {
+        let start = out.len();
+        self.within(mesh, point, radius + self.largest_reach, out);
+        let mut kept = start;
+        for i in start..out.len() {
+            let c = out[i];
+            let r = radius + self.reach[c];
+            if (mesh.cell_centres[c] - point).norm_squared() <= r * r {
+                out[kept] = c;
+                kept += 1;
+            }
+        }
+        out.truncate(kept);
     }
 }

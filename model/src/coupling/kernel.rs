@@ -13,9 +13,14 @@
 //!   particle's.
 //! - Sliding interface: only cells of the zone holding the particle (Table 4.2, "evaluated only
 //!   on one side"); the normalisation runs over those cells alone.
-//! - Fallback [R, §6.7]: if no cell centre carries weight (σ small against the cell, or ψ with
-//!   only the host cell inside R) the host cell takes all of it (the centroid method).
+//! - Cells wider than σ [R, deviation]: φ and ψ are integrated over the cell
+//!   ([`cell_quadrature`]) instead of read at its centre, so a kernel narrower than the cells
+//!   still moves smoothly from cell to cell; cells no wider than σ are read at the centre as in
+//!   T3.75/T3.85.
+//! - Fallback [R, §6.7]: if no cell carries weight (ψ of a particle at a cell centre with only
+//!   the host cell inside R) the host cell takes all of it (the centroid method).
 
+use super::cell_quadrature;
 use super::cell_search::CellSearch;
 use crate::mesh::{Mesh, PatchKind, Vec3};
 
@@ -87,39 +92,42 @@ pub fn stencil(geo: &KernelGeometry, x: &Vec3, diameter: f64, gamma: f64, host: 
     let support = 3.0 * sigma;
     let ghost = ghost_position(mesh, geo.wall_faces, x, support);
     scratch.clear();
-    geo.search.within(mesh, x, support, scratch);
+    geo.search.reaching(mesh, x, support, scratch);
     if let Some(g) = &ghost {
-        geo.search.within(mesh, g, support, scratch);
+        geo.search.reaching(mesh, g, support, scratch);
     }
     scratch.sort_unstable();
     scratch.dedup();
     let zone = mesh.cell_zone[host];
     let mut out = Stencil::default();
     let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
-    for &c in scratch.iter() {
-        if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
-            continue;
-        }
-        let centre = mesh.cell_centres[c];
-        let v = mesh.cell_volumes[c];
-        let r = (centre - x).norm();
+    let kernels = |point: &Vec3| {
+        let r = (point - x).norm();
         let mut phi = if r <= support { gaussian_shape(r, sigma) } else { 0.0 };
         let mut psi = quadratic_shape(r, support);
         if let Some(g) = &ghost {
-            let rg = (centre - g).norm();
+            let rg = (point - g).norm();
             if rg <= support {
                 phi += gaussian_shape(rg, sigma);
             }
             psi += quadratic_shape(rg, support);
         }
+        (phi, psi)
+    };
+    let empty = cell_quadrature::empty_normal(mesh);
+    for &c in scratch.iter() {
+        if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
+            continue;
+        }
+        let (phi, psi) = cell_quadrature::integrate(mesh, c, sigma, empty.as_ref(), &kernels);
         if phi == 0.0 && psi == 0.0 {
             continue;
         }
         out.cells.push(c);
-        out.deposit.push(phi * v);
-        out.sample.push(psi * v);
-        phi_sum += phi * v;
-        psi_sum += psi * v;
+        out.deposit.push(phi);
+        out.sample.push(psi);
+        phi_sum += phi;
+        psi_sum += psi;
     }
     normalise_or_host(&mut out, phi_sum, psi_sum, host);
     out
@@ -206,9 +214,9 @@ mod tests {
         assert!(host_weight < 1e-25, "host weight {host_weight}");
     }
 
-    /// A kernel narrower than the cells falls back to the host cell.
+    /// A kernel wholly inside its host cell puts all its weight there.
     #[test]
-    fn narrow_kernel_falls_back_to_the_host_cell() {
+    fn a_kernel_inside_one_cell_stays_in_it() {
         let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::repeat(1.0), [2, 2, 2])).unwrap();
         let (search, walls) = geometry(&mesh, 0.03);
         let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false };

@@ -5,7 +5,7 @@
 //! |-----------|-----------------------------------------------------|-------------------------------------------|
 //! | centroid  | host cell (T3.69)                                   | host cell                                 |
 //! | kernel    | φ̂, ghosts, one side of the interface (T3.75, T3.93) | ψ̂, the same cells (T3.85, T3.86)          |
-//! | diffusion | host cell, then smoothed (T3.78–T3.81)              | u and Du/Dt smoothed (T3.87), then ψ̂      |
+//! | diffusion | own-width φ̂, then smoothed (T3.78–T3.81)           | u and Du/Dt smoothed (T3.87), then ψ̂      |
 //!
 //! Every method conserves: Σ_j α_p,j V_j = Σ_n V_p,n, Σ_j C_j = Σ_n K_n and Σ_j F_j = Σ_n F_n to
 //! round-off (§12 U-19, U-24). The fluid fraction a particle sees for its hindered drag is the
@@ -36,6 +36,18 @@ use crate::fluid::sampling::{material_acceleration, FluidSample};
 use crate::mesh::{Mesh, PatchKind, Vec3};
 use crate::particles::Particle;
 use crate::step::ParticleLoad;
+
+/// The width of the diffusion method's initial deposit, as a fraction of d_p: the Gaussian with
+/// a sphere's own second moment (a²/5 per axis, a = d_p/2, so σ₀ = d_p/(2√5)), integrated over
+/// the cells like the kernel's φ [R, deviation from T3.78].
+///
+/// The thesis starts the diffusion from the host cell (the centroid method) and smooths that.
+/// On cells wider than the kernel the smoothing hardly moves it, so the particle's volume still
+/// jumps from cell to cell: at P1's d_p/Δx = 0.1 (diffusion γ = 3, D Δt/Δx² = 0.045) the
+/// settling velocity dipped by 5.3 % of u_t at each crossing. Starting from the particle's own
+/// small Gaussian carries its position inside the cell; the smoothing then adds the rest of the
+/// variance, so the total stays (γ d_p)² (T4.46).
+pub const SPHERE_WIDTH_FACTOR: f64 = 0.223_606_797_749_979;
 
 /// The particle load spread over the cells.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -127,11 +139,14 @@ impl ParticleMeshMap {
         3.0 * self.distance_factor * diameter
     }
 
-    /// The diffusion method's spread T·D = (γ d̄)²/2 (T4.46 with T = Δt), d̄ the mean diameter:
-    /// the thesis' diffusion is monodisperse (§6.6), one D for all particles.
-    fn diffusion(&self, mesh: &Mesh, particles: &[Particle]) -> Diffusion {
+    /// The diffusion method's smoothing of a field that is already spread to the width
+    /// `initial_factor` d̄: T·D = ((γ d̄)² − (initial_factor d̄)²)/2, so the result has the
+    /// variance (γ d̄)² of T4.46 (T = Δt) — variances of successive spreads add. d̄ is the mean
+    /// diameter: the thesis' diffusion is monodisperse (§6.6), one D for all particles.
+    fn diffusion(&self, mesh: &Mesh, particles: &[Particle], initial_factor: f64) -> Diffusion {
         let mean = particles.iter().map(|p| p.diameter).sum::<f64>() / particles.len().max(1) as f64;
-        Diffusion::new(mesh, 0.5 * (self.distance_factor * mean).powi(2))
+        let variance = (self.distance_factor * mean).powi(2) - (initial_factor * mean).powi(2);
+        Diffusion::new(mesh, 0.5 * variance.max(0.0))
     }
 
     /// The largest kernel support 3γ d_max among `particles`.
@@ -149,11 +164,11 @@ impl ParticleMeshMap {
         self.interface_mask && !mesh.interfaces.is_empty() && !particles.is_empty()
     }
 
-    /// The kernel stencils of `particles` on `mesh` at its current position.
-    fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch) -> Vec<Stencil> {
+    /// The kernel stencils (σ = `gamma` d) of `particles` on `mesh` at its current position.
+    fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch, gamma: f64) -> Vec<Stencil> {
         let walls = kernel::wall_faces(mesh);
         let geo = KernelGeometry { mesh, search, wall_faces: &walls, truncate_at_interface: !mesh.interfaces.is_empty() };
-        (self.stencil_builder)(&geo, particles, self.distance_factor)
+        (self.stencil_builder)(&geo, particles, gamma)
     }
 
     /// Cells within 3γ d_max of a sliding-interface face (call only when [`Self::masking`]).
@@ -176,8 +191,8 @@ impl ParticleMeshMap {
     pub fn deposit(&self, mesh: &Mesh, particles: &[Particle], load: &ParticleLoad, out: &mut CellLoad) {
         let n = mesh.n_cells();
         *out = CellLoad::zeros(n);
-        // one binning of the cell centres serves the mask and the kernel
-        let search = (self.method == MappingMethod::Kernel || self.masking(mesh, particles)).then(|| self.cell_search(mesh, particles));
+        // one binning of the cell centres serves the mask and the kernels
+        let search = (self.method != MappingMethod::Centroid || self.masking(mesh, particles)).then(|| self.cell_search(mesh, particles));
         if let Some(search) = search.as_ref().filter(|_| self.masking(mesh, particles)) {
             self.mask(mesh, particles, search, &mut out.masked);
         }
@@ -192,15 +207,16 @@ impl ParticleMeshMap {
             }
         };
         match self.method {
-            MappingMethod::Kernel => {
-                let search = search.as_ref().expect("built for the kernel method");
-                for (i, s) in self.stencils(mesh, particles, search).iter().enumerate() {
+            MappingMethod::Kernel | MappingMethod::Diffusion => {
+                let search = search.as_ref().expect("built for the kernel and diffusion methods");
+                let gamma = if self.method == MappingMethod::Kernel { self.distance_factor } else { SPHERE_WIDTH_FACTOR };
+                for (i, s) in self.stencils(mesh, particles, search, gamma).iter().enumerate() {
                     for (&c, &w) in s.cells.iter().zip(&s.deposit) {
                         add(c, w, i);
                     }
                 }
             }
-            MappingMethod::Centroid | MappingMethod::Diffusion => {
+            MappingMethod::Centroid => {
                 for (i, p) in particles.iter().enumerate() {
                     add(host_cell(mesh, &p.position), 1.0, i);
                 }
@@ -209,7 +225,7 @@ impl ParticleMeshMap {
         // per-volume fields for α_p and the diffusion; C and F stay totals per cell
         volume.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
-            let diffusion = self.diffusion(mesh, particles);
+            let diffusion = self.diffusion(mesh, particles, SPHERE_WIDTH_FACTOR);
             // C and F are diffused as densities (per volume) and integrated back
             let mut densities = vec![std::mem::take(&mut drag)];
             densities.extend(force.iter_mut().map(std::mem::take));
@@ -249,14 +265,14 @@ impl ParticleMeshMap {
             fluid_fraction,
         };
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
-            let diffusion = self.diffusion(mesh, particles);
+            let diffusion = self.diffusion(mesh, particles, 0.0);
             for field in velocity.iter_mut().chain(acceleration.iter_mut()) {
                 diffusion.smooth(field);
             }
         }
         match self.method {
             MappingMethod::Kernel | MappingMethod::Diffusion => {
-                for s in self.stencils(mesh, particles, &self.cell_search(mesh, particles)) {
+                for s in self.stencils(mesh, particles, &self.cell_search(mesh, particles), self.distance_factor) {
                     let (mut u, mut a, mut alpha) = (Vec3::zeros(), Vec3::zeros(), 0.0);
                     for (&c, &w) in s.cells.iter().zip(&s.sample) {
                         u += at(&velocity, c) * w;
@@ -342,6 +358,54 @@ mod tests {
             assert!((force - Vec3::new(0.6, -3.0, 0.4)).norm() < 1e-13, "{method:?}: force {force}");
             assert!(cells.masked.iter().all(|m| !m), "{method:?}: no interface, no mask");
         }
+    }
+
+    /// P1's coarsest mesh (10 cm cells, a 10 mm sphere): as the particle crosses a face in steps
+    /// of 0.2 mm, the kernel (γ = 1) and diffusion (γ = 3) deposits move their volume across
+    /// smoothly — the host-cell deposit moved all of it in one step. The bound: a share moves at
+    /// most at the Gaussian's steepest slope, step/(σ√2π) = 0.8 % of V_p per step for the
+    /// kernel's σ = 1 cm and 3.6 % for the diffusion's starting width σ₀ = 2.24 mm; 5 % allows
+    /// for the sum's curvature error (cell_quadrature's test) and is 20× below a jump.
+    #[test]
+    fn deposits_move_smoothly_across_a_face_of_cells_wider_than_the_kernel() {
+        let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.3, 0.8, 0.02), [3, 8, 1])).unwrap();
+        for (method, gamma) in [(MappingMethod::Kernel, 1.0), (MappingMethod::Diffusion, 3.0)] {
+            let mut m = map(method, false);
+            m.distance_factor = gamma;
+            let mut previous: Option<Vec<f64>> = None;
+            let mut largest = 0.0f64;
+            for k in 0..100 {
+                let particles = [particle(Vec3::new(0.15005, 0.41 - 2e-4 * k as f64, 0.01), 0.01)];
+                let mut cells = CellLoad::default();
+                m.deposit(&mesh, &particles, &load(&particles), &mut cells);
+                let volumes: Vec<f64> = cells.particle_fraction.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v / particles[0].volume()).collect();
+                if let Some(p) = &previous {
+                    largest = largest.max(volumes.iter().zip(p).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
+                }
+                previous = Some(volumes);
+            }
+            assert!(largest < 0.05, "{method:?}: a cell's share moved by {largest} of V_p in one 0.2 mm step");
+            assert!(largest > 1e-4, "{method:?}: the particle crossed the face at y = 0.4, so shares must move");
+        }
+    }
+
+    /// The diffusion's starting width is the sphere's own (σ₀² = a²/5, a = d/2), and a distance
+    /// factor below it is refused, naming the key.
+    #[test]
+    fn diffusion_starts_from_the_sphere_width_and_refuses_a_narrower_kernel() {
+        assert!((SPHERE_WIDTH_FACTOR - 0.5 / 5f64.sqrt()).abs() < 1e-16);
+        let mut section = CouplingSection {
+            method: MappingMethod::Diffusion,
+            distance_factor: 0.2,
+            feedback: Feedback::default(),
+            interface_mask: true,
+            drag: Default::default(),
+            min_fluid_fraction: 0.05,
+        };
+        let error = section.validate().unwrap_err();
+        assert!(error.key == "coupling.distance_factor" && error.value == "0.2" && error.allowed.contains("0.2236"), "{error:?}");
+        section.method = MappingMethod::Kernel;
+        assert!(section.validate().is_ok());
     }
 
     /// At a sliding interface (Table 4.2): a kernel stays on the particle's side and is

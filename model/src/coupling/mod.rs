@@ -6,9 +6,11 @@
 //! - [`kernel`]: the Gaussian φ and quadratic ψ kernels, ghosts and renormalisation (§6.3, §6.5, §6.7);
 //! - [`diffusion`]: the diffusion method's smoothing step (§6.4);
 //! - [`mapping`]: [`ParticleMeshMap`], the selected method both ways, and the [`CellLoad`] it makes;
+//! - [`cell_quadrature`]: a kernel integrated over a cell wider than the kernel;
 //! - [`cell_search`]: cells within a radius of a point;
 //! - [`mask`]: the ∂α_c/∂t the pressure equation takes in the interface mask (T4.54).
 
+pub mod cell_quadrature;
 pub mod cell_search;
 pub mod diffusion;
 pub mod kernel;

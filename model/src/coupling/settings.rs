@@ -74,6 +74,16 @@ impl CouplingSection {
     pub fn validate(&self) -> Result<(), FieldError> {
         positive("coupling.distance_factor", self.distance_factor, "(σ = γ d_p)")?;
         in_range("coupling.distance_factor", self.distance_factor, 0.0, 20.0, "(σ = γ d_p)")?;
+        if self.method == MappingMethod::Diffusion && self.distance_factor < super::mapping::SPHERE_WIDTH_FACTOR {
+            return Err(FieldError::new(
+                "coupling.distance_factor",
+                self.distance_factor,
+                format!(
+                    "with method = \"diffusion\", a number ≥ {:.4}: the diffusion starts from the sphere's own width d_p/(2√5) and can only widen it",
+                    super::mapping::SPHERE_WIDTH_FACTOR
+                ),
+            ));
+        }
         if !(self.min_fluid_fraction.is_finite() && self.min_fluid_fraction > 0.0 && self.min_fluid_fraction < 1.0) {
             return Err(FieldError::new("coupling.min_fluid_fraction", self.min_fluid_fraction, "a fluid fraction in (0, 1)"));
         }
