@@ -134,8 +134,9 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
     // collocated finite-volume scheme conserves linear momentum to solver tolerance but angular
     // momentum only to truncation error (the internal face fluxes' moments do not cancel), so
     // the imbalance R is a discretisation error, not a solver tolerance: measured |R̄|/T̄ =
-    // 0.219 on this head at 5 cm cells (T̄ = 78.0 N m, R̄ = 17.1 N m), and on the coarse test
-    // head R falls with the cell size (6.9 → 6.1 → 3.3 N m at 5, 4, 3.3 cm; tests/cutter_head.rs).
+    // 0.219 on this head at 5 cm cells (T̄ = 78.0 N m, R̄ = 17.1 N m), 0.099 at 4 cm (T̄ = 115.4,
+    // R̄ = 11.4 N m), and on the coarse test head R falls with the cell size (6.9 → 6.1 → 3.3 N m
+    // at 5, 4, 3.3 cm; tests/cutter_head.rs).
     // The bound 0.3 is that measurement with room for the rpm and mesh variants of `--full`;
     // a missing or mis-signed term (the pipe's outflow 0.76 T̄, the hull's walls 0.79 T̄) is
     // far outside it.
@@ -148,7 +149,8 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
     ));
     // the Euler turbine equation on the hull's control volume: its walls' torque against the
     // angular momentum carried out through hull and mouth; the same truncation error: measured
-    // |R̄_hull|/T̄ = 0.196 at 5 cm (walls 61.4, hull 16.8, mouth 59.5 N m), same bound
+    // |R̄_hull|/T̄ = 0.196 at 5 cm (walls 61.4, hull 16.8, mouth 59.5 N m), 0.072 at 4 cm (walls
+    // 56.6, hull 12.8, mouth 51.8 N m), same bound
     rows.push(CheckRow::at_most(
         name,
         format!(
