@@ -38,6 +38,15 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
                 mean / head.suction_discharge,
                 head.suction_discharge
             ));
+            if let Some(torque) = table.column("head_torque") {
+                // the rotor's torque on the water and the shaft power T ω (cutter_head::torque)
+                let window: Vec<f64> = time.iter().zip(&torque).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
+                let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
+                lines.push(format!(
+                    "head torque       {mean:.2} N m, shaft power {:.1} W (mean over {window_text})",
+                    mean * case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity())
+                ));
+            }
             let q_m: Vec<(f64, f64)> = time.iter().map(|t| (*t, head.suction_discharge)).collect();
             let q_out: Vec<(f64, f64)> = time.iter().copied().zip(outflow.iter().copied()).collect();
             let mut series =

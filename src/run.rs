@@ -400,6 +400,22 @@ fn column_unit(column: &str) -> (&'static str, bool) {
         "continuity_global" | "continuity_cumulative" | "particle_volume" => ("m³", false),
         "hull_outflow" | "hull_net_flux" | "suction_flux" | "hull_outflow_top" => ("m³/s", false),
         "settling_velocity" => ("m/s", false),
+        // the rotor's torque balance (cutter_head::torque)
+        "head_torque"
+        | "static_wall_torque"
+        | "open_boundary_torque"
+        | "gravity_torque"
+        | "boundary_angular_momentum_outflow"
+        | "angular_momentum_rate"
+        | "torque_imbalance"
+        | "hull_wall_torque"
+        | "hull_gravity_torque"
+        | "hull_angular_momentum_flux"
+        | "mouth_angular_momentum_flux"
+        | "hull_stress_torque"
+        | "hull_angular_momentum_rate"
+        | "hull_torque_imbalance" => ("N m", false),
+        "shaft_power" => ("W", false),
         _ => ("", false),
     }
 }

@@ -54,13 +54,7 @@ impl HullFaces {
     /// mesh. (A hull through the cell centres cut through the staircase tips at 5 cm cells and
     /// saw a fifth of the outflow between them.)
     pub fn new(head: &CutterHead, mesh: &Mesh) -> HullFaces {
-        let inside: Vec<bool> = (0..mesh.n_cells())
-            .map(|cell| {
-                let c = mesh.cell_centres[cell];
-                let r_min = mesh.cell_points[cell].iter().map(|&p| mesh.points[p].x.hypot(mesh.points[p].y)).fold(f64::INFINITY, f64::min);
-                c.z >= -head.height() && c.z <= 0.0 && r_min < head.radius_at(c.z)
-            })
-            .collect();
+        let inside = inside_cells(head, mesh);
         let (mut hull, mut mouth) = (Vec::new(), Vec::new());
         for f in 0..mesh.n_internal_faces {
             let (o, n) = (mesh.face_owner[f], mesh.face_neighbour[f]);
@@ -95,6 +89,17 @@ impl HullFaces {
         let suction = self.mouth.iter().map(|&(f, sign)| sign * flux[f]).sum();
         HullFlux { outflow, net, suction, outflow_top_bin: top }
     }
+}
+
+/// Per cell: inside the contour hull ([`HullFaces::new`] says which and why).
+pub fn inside_cells(head: &CutterHead, mesh: &Mesh) -> Vec<bool> {
+    (0..mesh.n_cells())
+        .map(|cell| {
+            let c = mesh.cell_centres[cell];
+            let r_min = mesh.cell_points[cell].iter().map(|&p| mesh.points[p].x.hypot(mesh.points[p].y)).fold(f64::INFINITY, f64::min);
+            c.z >= -head.height() && c.z <= 0.0 && r_min < head.radius_at(c.z)
+        })
+        .collect()
 }
 
 /// Where a particle at a body-frame position has gone, if it left the head: sucked (in the

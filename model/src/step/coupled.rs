@@ -36,6 +36,7 @@ use crate::case::Case;
 use crate::closure::drag::FluidAtParticle;
 use crate::coupling::{CellLoad, ParticleMeshMap};
 use crate::cutter_head::spillage::{self, HullFaces, SpillageCounts};
+use crate::cutter_head::torque::{ControlVolume, TorqueBudget};
 use crate::cutter_head::CutterHead;
 use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
@@ -69,6 +70,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     down: Option<Vec3>,
     /// A cutter head's geometry and hull faces (spillage bookkeeping, hull fluxes).
     head: Option<(CutterHead, HullFaces)>,
+    /// The rotor's angular-momentum budget of a fluid with a rotor (issue 16 check 3).
+    torque: Option<TorqueBudget>,
     /// The wear phase (`[wear]`, set by [`Coupled::with_wear`]) and whether the case asks for one.
     wear: Option<Box<dyn WearPhase + Send>>,
     wear_in_case: bool,
@@ -164,6 +167,13 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             _ => None,
         };
+        let torque = match &fluid {
+            Some(f) => {
+                let control = head.as_ref().map(|(h, faces)| ControlVolume::new(spillage::inside_cells(h, f.mesh()), faces));
+                TorqueBudget::new(case, f.mesh(), control).map_err(unsupported)?
+            }
+            None => None,
+        };
         let closed_patches = fluid.as_ref().map_or(Vec::new(), |f| {
             use crate::fluid::settings::BoundaryCondition;
             f.mesh().patches.iter().map(|p| matches!(case.boundary.get(&p.name), Some(BoundaryCondition::Wall { .. } | BoundaryCondition::Symmetry))).collect()
@@ -184,6 +194,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             cell_load: None,
             down,
             head,
+            torque,
             wear: None,
             wear_in_case: case.wear.is_some(),
             failed_in_fluid: false,
@@ -394,6 +405,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             let cells = self.mapping.as_ref().and(self.cell_load.as_ref());
             self.failed_in_fluid = true;
+            let before = self.torque.as_ref().map(|t| t.before(phase.mesh(), fluid, &ctx));
             // a failed solve says where in the run it failed
             let outcome = phase.advance(&ctx, fluid, cells, report).map_err(|e| match e {
                 SolverError::LinearSolve(what) => SolverError::LinearSolve(format!("step {}, t = {:e} s: {what}", ctx.step, ctx.time_end())),
@@ -421,6 +433,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                     ("outflow_ratio", q.outflow / head.suction_discharge),
                     ("hull_outflow_top", q.outflow_top_bin),
                 ]);
+            }
+            if let (Some(budget), Some(before)) = (&self.torque, before) {
+                budget.after(phase.mesh(), fluid, &ctx, &before).report(ctx.rotor.map_or(0.0, |r| r.omega), report);
             }
         }
 
