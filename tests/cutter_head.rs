@@ -235,19 +235,3 @@ fn the_head_torque_balances_the_angular_momentum_budget() {
     assert!(worst <= 0.15, "whole water: |R|/T = {worst}");
     assert!(worst_hull <= 0.1, "hull: |R|/T = {worst_hull}");
 }
-
-/// The shipped flow check's case (cases/verification/cutter_head/flow_60rpm.toml, 2
-/// revolutions, ~10 min): the torque terms over the last revolution (`--ignored`, a
-/// measurement for README and the issue).
-#[test]
-#[ignore]
-fn shipped_head_torque_terms() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/cutter_head/flow_60rpm.toml");
-    let mut case = Case::load(&path).unwrap();
-    if let Ok(h) = std::env::var("HEAD_CELL_SIZE") {
-        case.cutter_head.as_mut().unwrap().mesh.cell_size = h.parse().unwrap();
-        case.finish().unwrap();
-    }
-    let means = spillage::verify::cutter_head::mean_fluxes(&case).unwrap();
-    eprintln!("{means:?}");
-}

@@ -137,20 +137,21 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
     // 0.219 on this head at 5 cm cells (T̄ = 78.0 N m, R̄ = 17.1 N m), 0.099 at 4 cm (T̄ = 115.4,
     // R̄ = 11.4 N m), and on the coarse test head R falls with the cell size (6.9 → 6.1 → 3.3 N m
     // at 5, 4, 3.3 cm; tests/cutter_head.rs).
-    // The bound 0.3 is that measurement with room for the rpm and mesh variants of `--full`;
-    // a missing or mis-signed term (the pipe's outflow 0.76 T̄, the hull's walls 0.79 T̄) is
-    // far outside it.
+    // Issue 16 asks for the balance "to solver tolerance"; it closes only to truncation error,
+    // so both rows are reported (no bound) rather than given a bound fitted to the measurement.
+    // The budget's terms are checked to add up, and to balance on Couette flow, in
+    // tests/cutter_head.rs and tests/head_torque.rs.
     rows.push(CheckRow::at_most(
         name,
         format!("angular-momentum imbalance of the water |R̄| / T̄ (head torque T̄ = {:.1} N m), last revolution", means.head_torque),
         SOLVER,
         means.imbalance.abs() / means.head_torque.abs(),
-        0.3,
+        f64::INFINITY,
     ));
     // the Euler turbine equation on the hull's control volume: its walls' torque against the
     // angular momentum carried out through hull and mouth; the same truncation error: measured
     // |R̄_hull|/T̄ = 0.196 at 5 cm (walls 61.4, hull 16.8, mouth 59.5 N m), 0.072 at 4 cm (walls
-    // 56.6, hull 12.8, mouth 51.8 N m), same bound
+    // 56.6, hull 12.8, mouth 51.8 N m), reported too
     rows.push(CheckRow::at_most(
         name,
         format!(
@@ -159,7 +160,7 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
         ),
         SOLVER,
         means.hull_imbalance.abs() / means.head_torque.abs(),
-        0.3,
+        f64::INFINITY,
     ));
     let rpm_case = case.rotor.as_ref().map_or(f64::NAN, |r| r.angular_velocity().abs() * 60.0 / std::f64::consts::TAU);
     let mut computed = vec![(rpm_case, outflow)];

@@ -13,9 +13,9 @@
 //!   particle's.
 //! - Sliding interface: only cells of the zone holding the particle (Table 4.2, "evaluated only
 //!   on one side"); the normalisation runs over those cells alone.
-//! - Cells wider than σ [R, deviation]: φ and ψ are integrated over the cell
+//! - Cells wider than 1.5σ [R, deviation]: φ and ψ are integrated over the cell
 //!   ([`cell_quadrature`]) instead of read at its centre, so a kernel narrower than the cells
-//!   still moves smoothly from cell to cell; cells no wider than σ are read at the centre as in
+//!   still moves smoothly from cell to cell; narrower cells are read at the centre as in
 //!   T3.75/T3.85.
 //! - Fallback [R, §6.7]: if no cell carries weight (ψ of a particle at a cell centre with only
 //!   the host cell inside R) the host cell takes all of it (the centroid method).
@@ -23,20 +23,6 @@
 use super::cell_quadrature;
 use super::cell_search::CellSearch;
 use crate::mesh::{Mesh, PatchKind, Vec3};
-
-/// Gaussian shape exp(−r²/2σ²) of φ (T3.74 without its prefactor).
-pub fn gaussian_shape(r: f64, sigma: f64) -> f64 {
-    (-(r * r) / (2.0 * sigma * sigma)).exp()
-}
-
-/// Quadratic shape r² of ψ inside R (T3.84 without its prefactor), 0 outside.
-pub fn quadratic_shape(r: f64, support: f64) -> f64 {
-    if r < support {
-        r * r
-    } else {
-        0.0
-    }
-}
 
 /// The ghost of a particle at `x`: its mirror image in the nearest wall face whose centre is
 /// within `support` (faces of walls and other physical boundaries; not the front and back of a
@@ -101,16 +87,16 @@ pub fn stencil(geo: &KernelGeometry, x: &Vec3, diameter: f64, gamma: f64, host: 
     let zone = mesh.cell_zone[host];
     let mut out = Stencil::default();
     let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
+    // φ = exp(−r²/2σ²) within 3σ (T3.74, T3.76) and ψ = r² within R = 3σ (T3.84), both without
+    // their prefactors, which the normalisation cancels; from r² alone, no root per point
+    let (support2, inverse_2s2) = (support * support, 1.0 / (2.0 * sigma * sigma));
+    let shapes = |r2: f64| if r2 <= support2 { ((-r2 * inverse_2s2).exp(), if r2 < support2 { r2 } else { 0.0 }) } else { (0.0, 0.0) };
     let kernels = |point: &Vec3| {
-        let r = (point - x).norm();
-        let mut phi = if r <= support { gaussian_shape(r, sigma) } else { 0.0 };
-        let mut psi = quadratic_shape(r, support);
+        let (mut phi, mut psi) = shapes((point - x).norm_squared());
         if let Some(g) = &ghost {
-            let rg = (point - g).norm();
-            if rg <= support {
-                phi += gaussian_shape(rg, sigma);
-            }
-            psi += quadratic_shape(rg, support);
+            let (a, b) = shapes((point - g).norm_squared());
+            phi += a;
+            psi += b;
         }
         (phi, psi)
     };
