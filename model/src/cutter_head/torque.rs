@@ -57,6 +57,7 @@ use crate::case::Case;
 use crate::fluid::conditions::{Condition, Conditions};
 use crate::fluid::settings::ConvectionScheme;
 use crate::fluid::state::FluidState;
+use crate::fluid::velocity_gradient::{explicit_stress, gauss_velocity_gradient};
 use crate::mesh::{Mesh, PatchKind, Vec3};
 use crate::step::{RotorPose, StepContext};
 
@@ -257,7 +258,11 @@ impl TorqueBudget {
                 };
             }
         }
-        let grad = gauss_gradient(mesh, &self.role, &fluid.velocity, &boundary_u);
+        // interface faces take the cell's own value (module doc)
+        let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, c| {
+            let k = mesh.patches.iter().position(|p| p.faces().contains(&f)).expect("a boundary face lies in a patch");
+            Some(if self.role[k] == Role::None { Vec3::from(fluid.velocity[c]) } else { boundary_u[f - mesh.n_internal_faces] })
+        });
 
         let mut t = TorqueTerms::default();
         let mut cv = self.control.as_ref().map(|_| ControlTerms::default());
@@ -402,46 +407,4 @@ impl TorqueTerms {
             ]);
         }
     }
-}
-
-/// [(∇u)ᵀ − ⅔ tr(∇u) I]·S for g[i][j] = ∂u_j/∂x_i (the reference assembly's explicit part).
-fn explicit_stress(g: &[Vec3; 3], s: &Vec3) -> Vec3 {
-    let trace = g[0][0] + g[1][1] + g[2][2];
-    Vec3::new(g[0].dot(s), g[1].dot(s), g[2].dot(s)) - s * (2.0 / 3.0 * trace)
-}
-
-/// Gauss cell gradient g[c][i] = ∂u/∂x_i with linear face values, the boundary velocities on
-/// boundary faces and the cell's value on interface faces (module doc); empty faces carry none.
-fn gauss_gradient(mesh: &Mesh, role: &[Role], u: &[[f64; 3]], boundary_u: &[Vec3]) -> Vec<[Vec3; 3]> {
-    let n = u.len();
-    let v = |c: usize| Vec3::from(u[c]);
-    let mut grad = vec![[Vec3::zeros(); 3]; n];
-    for f in 0..mesh.n_internal_faces {
-        let (o, nb, w) = (mesh.face_owner[f], mesh.face_neighbour[f], mesh.face_weight[f]);
-        let face = v(o) * w + v(nb) * (1.0 - w);
-        let s = mesh.face_areas[f];
-        for i in 0..3 {
-            grad[o][i] += face * s[i];
-            grad[nb][i] -= face * s[i];
-        }
-    }
-    for (k, patch) in mesh.patches.iter().enumerate() {
-        if patch.kind == PatchKind::Empty {
-            continue;
-        }
-        for f in patch.faces() {
-            let c = mesh.face_owner[f];
-            let face = if role[k] == Role::None { v(c) } else { boundary_u[f - mesh.n_internal_faces] };
-            let s = mesh.face_areas[f];
-            for i in 0..3 {
-                grad[c][i] += face * s[i];
-            }
-        }
-    }
-    for (c, g) in grad.iter_mut().enumerate() {
-        for row in g.iter_mut() {
-            *row /= mesh.cell_volumes[c];
-        }
-    }
-    grad
 }

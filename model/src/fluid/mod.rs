@@ -7,3 +7,4 @@ pub mod sampling;
 pub mod settings;
 pub mod state;
 pub mod time_scheme;
+pub mod velocity_gradient;

@@ -40,6 +40,7 @@ use spillage_model::case::Case;
 use spillage_model::coupling::Feedback;
 use spillage_model::fluid::settings::BoundaryCondition;
 use spillage_model::fluid::time_scheme::time_coefficients;
+use spillage_model::fluid::velocity_gradient::{explicit_stress, gauss_velocity_gradient};
 use spillage_model::mesh::{Mesh, PatchKind, Vec3};
 use spillage_model::solver::Solver;
 use spillage_model::step::{Coupled, FluidPhase, ParticlePhase};
@@ -91,24 +92,9 @@ fn fluid_momentum(mesh: &Mesh, alpha: &[f64], u: &[[f64; 3]], density: f64) -> V
 /// the momentum assembly at wall faces (no-slip, u_b = 0), ρ_c ν α_P [−|S|/d u_P +
 /// ((∇u)ᵀ − ⅔ tr(∇u) I)·S], ∇u by Gauss with the wall velocity on wall faces.
 fn wall_force(case: &Case, mesh: &Mesh, alpha: &[f64], u: &[[f64; 3]], boundary_pressure: &[f64], density: f64, viscosity: f64) -> Result<Vec3> {
-    let n = u.len();
     let v = |c: usize| Vec3::from(u[c]);
-    // Gauss gradient g[c][i][j] = ∂u_j/∂x_i; empty faces carry no gradient
-    let mut grad = vec![[Vec3::zeros(); 3]; n];
-    for f in 0..mesh.n_internal_faces {
-        let (o, nb, w) = (mesh.face_owner[f], mesh.face_neighbour[f], mesh.face_weight[f]);
-        let face = v(o) * w + v(nb) * (1.0 - w);
-        let s = mesh.face_areas[f];
-        for i in 0..3 {
-            grad[o][i] += face * s[i];
-            grad[nb][i] -= face * s[i];
-        }
-    }
-    for (c, g) in grad.iter_mut().enumerate() {
-        for row in g.iter_mut() {
-            *row /= mesh.cell_volumes[c];
-        }
-    }
+    // walls at rest: u_b = 0 adds nothing to the Gauss gradient
+    let grad = gauss_velocity_gradient(mesh, u, |_, _| None);
     let mut force = Vec3::zeros();
     for patch in &mesh.patches {
         if patch.kind == PatchKind::Empty {
@@ -124,9 +110,7 @@ fn wall_force(case: &Case, mesh: &Mesh, alpha: &[f64], u: &[[f64; 3]], boundary_
             let s = mesh.face_areas[f];
             let normal = s.normalize();
             let distance = (mesh.face_centres[f] - mesh.cell_centres[c]).dot(&normal);
-            let g = &grad[c];
-            let trace = g[0][0] + g[1][1] + g[2][2];
-            let explicit = Vec3::new(g[0].dot(&s), g[1].dot(&s), g[2].dot(&s)) - s * (2.0 / 3.0 * trace);
+            let explicit = explicit_stress(&grad[c], &s);
             let gamma = viscosity * alpha[c];
             force += (-v(c) * (gamma * s.norm() / distance) + explicit * gamma) * density;
             force -= s * (boundary_pressure[f - mesh.n_internal_faces] * density);

@@ -1,0 +1,45 @@
+//! The Gauss cell gradient of the velocity and the explicit part of the viscous wall flux, as the
+//! reference momentum assembly forms them (fluid-dem-model.md §8.2), for the budgets that
+//! re-derive wall forces from a solution (the closed box's momentum, the rotor's torque).
+
+use crate::mesh::{Mesh, PatchKind, Vec3};
+
+/// g[c][i] = ∂u/∂x_i by Gauss with linear face values on internal faces and
+/// `boundary_value(f, owner)` on boundary faces (`None`: the face adds nothing, as a wall at rest
+/// with u_b = 0 does); empty faces carry none.
+pub fn gauss_velocity_gradient(mesh: &Mesh, u: &[[f64; 3]], boundary_value: impl Fn(usize, usize) -> Option<Vec3>) -> Vec<[Vec3; 3]> {
+    let v = |c: usize| Vec3::from(u[c]);
+    let mut grad = vec![[Vec3::zeros(); 3]; u.len()];
+    for f in 0..mesh.n_internal_faces {
+        let (o, nb, w) = (mesh.face_owner[f], mesh.face_neighbour[f], mesh.face_weight[f]);
+        let face = v(o) * w + v(nb) * (1.0 - w);
+        let s = mesh.face_areas[f];
+        for i in 0..3 {
+            grad[o][i] += face * s[i];
+            grad[nb][i] -= face * s[i];
+        }
+    }
+    for patch in mesh.patches.iter().filter(|p| p.kind != PatchKind::Empty) {
+        for f in patch.faces() {
+            let c = mesh.face_owner[f];
+            if let Some(face) = boundary_value(f, c) {
+                let s = mesh.face_areas[f];
+                for i in 0..3 {
+                    grad[c][i] += face * s[i];
+                }
+            }
+        }
+    }
+    for (c, g) in grad.iter_mut().enumerate() {
+        for row in g.iter_mut() {
+            *row /= mesh.cell_volumes[c];
+        }
+    }
+    grad
+}
+
+/// [(∇u)ᵀ − ⅔ tr(∇u) I]·S for g[i][j] = ∂u_j/∂x_i (the reference assembly's explicit part).
+pub fn explicit_stress(g: &[Vec3; 3], s: &Vec3) -> Vec3 {
+    let trace = g[0][0] + g[1][1] + g[2][2];
+    Vec3::new(g[0].dot(s), g[1].dot(s), g[2].dot(s)) - s * (2.0 / 3.0 * trace)
+}
