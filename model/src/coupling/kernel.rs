@@ -68,6 +68,8 @@ pub struct KernelGeometry<'a> {
     pub wall_faces: &'a [usize],
     /// Whether the mesh has sliding interfaces (then stencils stay in the particle's zone).
     pub truncate_at_interface: bool,
+    /// The normal of a 2-D mesh's front and back ([`cell_quadrature::empty_normal`]).
+    pub empty_normal: Option<Vec3>,
 }
 
 /// The stencil of a particle at `x` of diameter `d` whose centre lies in `host`, with distance
@@ -100,12 +102,11 @@ pub fn stencil(geo: &KernelGeometry, x: &Vec3, diameter: f64, gamma: f64, host: 
         }
         (phi, psi)
     };
-    let empty = cell_quadrature::empty_normal(mesh);
     for &c in scratch.iter() {
         if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
             continue;
         }
-        let (phi, psi) = cell_quadrature::integrate(mesh, c, sigma, empty.as_ref(), &kernels);
+        let (phi, psi) = cell_quadrature::integrate(mesh, c, sigma, geo.empty_normal.as_ref(), &kernels);
         if phi == 0.0 && psi == 0.0 {
             continue;
         }
@@ -156,7 +157,7 @@ mod tests {
         let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::repeat(0.1), [10, 10, 10])).unwrap();
         let (d, gamma) = (0.01, 1.0);
         let (search, walls) = geometry(&mesh, 3.0 * gamma * d);
-        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false };
+        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false, empty_normal: None };
         let mut scratch = Vec::new();
         for x in [Vec3::new(0.05, 0.05, 0.05), Vec3::new(0.004, 0.05, 0.05), Vec3::new(0.003, 0.002, 0.097)] {
             let host = mesh.locate(&x).unwrap();
@@ -187,7 +188,7 @@ mod tests {
         let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::repeat(1.0), [20, 20, 20])).unwrap();
         let (d, gamma) = (0.055, 1.0);
         let (search, walls) = geometry(&mesh, 3.0 * gamma * d);
-        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false };
+        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false, empty_normal: None };
         let x = Vec3::new(0.475, 0.525, 0.475);
         let host = mesh.locate(&x).unwrap();
         let s = stencil(&geo, &x, d, gamma, host, &mut Vec::new());
@@ -205,7 +206,7 @@ mod tests {
     fn a_kernel_inside_one_cell_stays_in_it() {
         let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::repeat(1.0), [2, 2, 2])).unwrap();
         let (search, walls) = geometry(&mesh, 0.03);
-        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false };
+        let geo = KernelGeometry { mesh: &mesh, search: &search, wall_faces: &walls, truncate_at_interface: false, empty_normal: None };
         let x = Vec3::new(0.3, 0.3, 0.3);
         let host = mesh.locate(&x).unwrap();
         let s = stencil(&geo, &x, 0.01, 1.0, host, &mut Vec::new());

@@ -167,7 +167,13 @@ impl ParticleMeshMap {
     /// The kernel stencils (σ = `gamma` d) of `particles` on `mesh` at its current position.
     fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch, gamma: f64) -> Vec<Stencil> {
         let walls = kernel::wall_faces(mesh);
-        let geo = KernelGeometry { mesh, search, wall_faces: &walls, truncate_at_interface: !mesh.interfaces.is_empty() };
+        let geo = KernelGeometry {
+            mesh,
+            search,
+            wall_faces: &walls,
+            truncate_at_interface: !mesh.interfaces.is_empty(),
+            empty_normal: super::cell_quadrature::empty_normal(mesh),
+        };
         (self.stencil_builder)(&geo, particles, gamma)
     }
 
