@@ -29,19 +29,30 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             let end = time.last().copied().unwrap_or(0.0);
             let period = if omega > 0.0 { std::f64::consts::TAU / omega } else { f64::INFINITY };
             let from = (end - period).max(0.0);
-            let window: Vec<f64> = time.iter().zip(&outflow).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
-            let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
+            let window_mean = |values: &[f64]| {
+                let window: Vec<f64> = time.iter().zip(values).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
+                window.iter().sum::<f64>() / window.len().max(1) as f64
+            };
+            let mean = window_mean(&outflow);
             let revolutions = end / period;
             let window_text = if revolutions >= 1.0 { "the last revolution".to_string() } else { format!("the {revolutions:.2} revolutions run") };
+            let q_m = head.suction_discharge;
             lines.push(format!(
-                "out-flowing flux  {mean:.4} m³/s = {:.3} Q_m (Eq. 8.4, mean over {window_text}; Q_m = {} m³/s)",
-                mean / head.suction_discharge,
-                head.suction_discharge
+                "out-flowing flux  {mean:.4} m³/s = {:.3} Q_m through the cells' hull (Eq. 8.4, mean over {window_text}; Q_m = {q_m} m³/s)",
+                mean / q_m
             ));
+            if let (Some(contour), Some(net)) = (table.column("contour_outflow"), table.column("contour_net_flux")) {
+                // the thesis' measure: velocities interpolated onto r = R(z) (cutter_head::hull_surface)
+                let (mean, net) = (window_mean(&contour), window_mean(&net));
+                lines.push(format!(
+                    "                  {mean:.4} m³/s = {:.3} Q_m through the contour R(z) (Eqs. 8.1–8.4, interpolated; net inflow {:.3} Q_m)",
+                    mean / q_m,
+                    -net / q_m
+                ));
+            }
             if let Some(torque) = table.column("head_torque") {
                 // the rotor's torque on the water and the shaft power T ω (cutter_head::torque)
-                let window: Vec<f64> = time.iter().zip(&torque).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
-                let mean = window.iter().sum::<f64>() / window.len().max(1) as f64;
+                let mean = window_mean(&torque);
                 lines.push(format!(
                     "head torque       {mean:.2} N m, shaft power {:.1} W (mean over {window_text})",
                     mean * case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity())
@@ -49,9 +60,15 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             }
             let q_m: Vec<(f64, f64)> = time.iter().map(|t| (*t, head.suction_discharge)).collect();
             let q_out: Vec<(f64, f64)> = time.iter().copied().zip(outflow.iter().copied()).collect();
-            let mut series =
-                vec![Series { label: "out-flowing flux Q_out (Eq. 8.4)", points: &q_out }, Series { label: "suction discharge Q_m", points: &q_m }];
-            let net: Vec<(f64, f64)>;
+            let mut series = vec![
+                Series { label: "out-flowing flux Q_out through the cells' hull (Eq. 8.4)", points: &q_out },
+                Series { label: "suction discharge Q_m", points: &q_m },
+            ];
+            let (net, contour): (Vec<(f64, f64)>, Vec<(f64, f64)>);
+            if let Some(c) = table.column("contour_outflow") {
+                contour = time.iter().copied().zip(c).collect();
+                series.push(Series { label: "out-flowing flux through the contour R(z) (Eqs. 8.1–8.4)", points: &contour });
+            }
             if let Some(n) = table.column("hull_net_flux") {
                 net = time.iter().copied().zip(n.iter().map(|q| -q)).collect();
                 series.push(Series { label: "net inflow through the hull", points: &net });

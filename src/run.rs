@@ -398,7 +398,9 @@ fn column_unit(column: &str) -> (&'static str, bool) {
         "particle_kinetic_energy" => ("J", false),
         "p_initial_residual" | "continuity_local" | "continuity_cell_max" | "interface_imbalance" => ("", true),
         "continuity_global" | "continuity_cumulative" | "particle_volume" => ("m³", false),
-        "hull_outflow" | "hull_net_flux" | "suction_flux" | "hull_outflow_top" => ("m³/s", false),
+        "hull_outflow" | "hull_net_flux" | "suction_flux" | "hull_outflow_top" | "contour_outflow" | "contour_net_flux" | "contour_outflow_top" => {
+            ("m³/s", false)
+        }
         "settling_velocity" => ("m/s", false),
         // the rotor's torque balance (cutter_head::torque)
         "head_torque"

@@ -17,10 +17,11 @@ use spillage_model::output::series::SeriesTable;
 const CLOCK_COLUMNS: [&str; 3] = ["step", "time", "dt"];
 
 /// The columns `sweep.md` shows when a run has them (all are in `sweep.csv`): the head's
-/// out-flowing flux next to the analytic one, the production and spillage fractions next to the
+/// out-flowing flux (face hull and interpolated contour) next to the analytic one, the production and spillage fractions next to the
 /// analytic production, particle counts, and the kinetic energy of the fluid.
-const MARKDOWN_COLUMNS: [&str; 11] = [
+const MARKDOWN_COLUMNS: [&str; 12] = [
     "hull_outflow_mean",
+    "contour_outflow_mean",
     "analytic_outflow",
     "outflow_ratio_mean",
     "production",

@@ -5,7 +5,8 @@
 //! Layers follow the head: graded from `outer_cell_size` at the tank floor to `cell_size` at
 //! the hub plate, then `cell_size` through hub plate, head, ring and pipe, so the ring's
 //! underside (z = 0) and the hub (z = −H) are layer edges. Radially the rotor is uniform at
-//! `cell_size`; the stator is graded to `outer_cell_size` at the tank wall.
+//! about `cell_size` from the shaft to the widest contour radius and from there to the
+//! interface; the stator is graded to `outer_cell_size` at the tank wall.
 
 use std::f64::consts::TAU;
 
@@ -49,7 +50,11 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
     let head = CutterHead::new(section);
     let (h, ho) = (section.mesh.cell_size, section.mesh.outer_cell_size);
     let ri = section.mesh.interface_radius;
-    let rotor_r = graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, ri, cells_over(ri - head.shaft_radius, h).max(2), 1.0)?;
+    // the widest contour radius is a cell edge, so the blocked blade tips end at the contour
+    // on every mesh (not up to a cell beyond it, by an amount that jumps with the cell size)
+    let r_max = head.contour().iter().map(|p| p.1).fold(0.0, f64::max);
+    let mut rotor_r = graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, r_max, cells_over(r_max - head.shaft_radius, h).max(2), 1.0)?;
+    rotor_r.extend_from_slice(&graded_edges("cutter_head.mesh.cell_size", r_max, ri, cells_over(ri - r_max, h), 1.0)?[1..]);
     let stator_r = graded_edges("cutter_head.mesh.outer_cell_size", ri, section.tank.radius, cells_over(section.tank.radius - ri, 0.5 * (h + ho)), ho / h)?;
     let z = z_edges(&head, section)?;
     let n_theta_rotor = ((TAU * head.radius_at(0.0) / h).ceil() as usize).max(3);
@@ -101,7 +106,7 @@ pub fn build(section: &CutterHeadSection) -> Result<Mesh, MeshError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mesh::test_support::*;
 
@@ -151,7 +156,7 @@ mod tests {
         // the staircase over-covers thin solids by up to a cell on each side, so its volume
         // falls toward the true one as the cells shrink
         let mut previous = f64::INFINITY;
-        for h in [0.06, 0.04, 0.03] {
+        for h in [0.05, 0.04, 0.03] {
             let section = section(h);
             let mesh = build(&section).unwrap();
             let spec = blocked_rotor_stator(&section).unwrap();

@@ -57,7 +57,7 @@ use crate::case::Case;
 use crate::fluid::conditions::{Condition, Conditions};
 use crate::fluid::settings::ConvectionScheme;
 use crate::fluid::state::FluidState;
-use crate::fluid::velocity_gradient::{explicit_stress, gauss_velocity_gradient};
+use crate::fluid::velocity_gradient::{boundary_velocities, explicit_stress, gauss_velocity_gradient};
 use crate::mesh::{Mesh, PatchKind, Vec3};
 use crate::step::{RotorPose, StepContext};
 
@@ -238,31 +238,10 @@ impl TorqueBudget {
         let nu_t = fluid.turbulence.as_ref();
         let n_internal = mesh.n_internal_faces;
         let mesh_flux = |f: usize| if self.rotor_cells[mesh.face_owner[f]] { pose.velocity_at(&mesh.face_centres[f]).dot(&mesh.face_areas[f]) } else { 0.0 };
-        let rotor_velocity = |x: &Vec3| pose.velocity_at(x);
-
-        // boundary velocities (the assembly's: fixed, slip on symmetry, the cell's elsewhere)
-        let mut boundary_u = vec![Vec3::zeros(); mesh.n_faces() - n_internal];
-        for (k, patch) in mesh.patches.iter().enumerate() {
-            for f in patch.faces() {
-                let c = mesh.face_owner[f];
-                let condition = self.conditions.patch_condition[k];
-                boundary_u[f - n_internal] = match condition.map(|i| (i, &self.conditions.conditions[i])) {
-                    Some((i, Condition::FixedVelocity { .. })) => {
-                        self.conditions.fixed_velocity(i, &mesh.face_centres[f], Some(rotor_velocity)).unwrap_or(u(c))
-                    }
-                    Some((_, Condition::Symmetry)) => {
-                        let n = mesh.face_areas[f].normalize();
-                        u(c) - n * u(c).dot(&n)
-                    }
-                    _ => u(c),
-                };
-            }
-        }
-        // interface faces take the cell's own value (module doc)
-        let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, c| {
-            let k = mesh.patches.iter().position(|p| p.faces().contains(&f)).expect("a boundary face lies in a patch");
-            Some(if self.role[k] == Role::None { Vec3::from(fluid.velocity[c]) } else { boundary_u[f - mesh.n_internal_faces] })
-        });
+        // boundary values as the assembly takes them; interface faces take the cell's own value
+        // (module doc), which `boundary_velocities` gives patches without a condition
+        let boundary_u = boundary_velocities(mesh, &self.conditions, &fluid.velocity, Some(&pose));
+        let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, _| Some(boundary_u[f - n_internal]));
 
         let mut t = TorqueTerms::default();
         let mut cv = self.control.as_ref().map(|_| ControlTerms::default());

@@ -2,7 +2,9 @@
 //! reference momentum assembly forms them (fluid-dem-model.md §8.2), for the budgets that
 //! re-derive wall forces from a solution (the closed box's momentum, the rotor's torque).
 
+use crate::fluid::conditions::{Condition, Conditions};
 use crate::mesh::{Mesh, PatchKind, Vec3};
+use crate::step::RotorPose;
 
 /// g[c][i] = ∂u/∂x_i by Gauss with linear face values on internal faces and
 /// `boundary_value(f, owner)` on boundary faces (`None`: the face adds nothing, as a wall at rest
@@ -36,6 +38,30 @@ pub fn gauss_velocity_gradient(mesh: &Mesh, u: &[[f64; 3]], boundary_value: impl
         }
     }
     grad
+}
+
+/// The velocity of every boundary face (index f − n_internal_faces) as the momentum assembly
+/// takes it: fixed where the condition fixes it (a rotating wall adds the rotor's rigid velocity
+/// at `pose`), the cell's tangential part on a symmetry plane, the cell's own elsewhere (outlets,
+/// sliding interfaces, empty faces).
+pub fn boundary_velocities(mesh: &Mesh, conditions: &Conditions, u: &[[f64; 3]], pose: Option<&RotorPose>) -> Vec<Vec3> {
+    let n_internal = mesh.n_internal_faces;
+    let rotor_velocity = pose.map(|p| move |x: &Vec3| p.velocity_at(x));
+    let mut boundary_u = vec![Vec3::zeros(); mesh.n_faces() - n_internal];
+    for (k, patch) in mesh.patches.iter().enumerate() {
+        for f in patch.faces() {
+            let own = Vec3::from(u[mesh.face_owner[f]]);
+            boundary_u[f - n_internal] = match conditions.patch_condition[k].map(|i| (i, &conditions.conditions[i])) {
+                Some((i, Condition::FixedVelocity { .. })) => conditions.fixed_velocity(i, &mesh.face_centres[f], rotor_velocity).unwrap_or(own),
+                Some((_, Condition::Symmetry)) => {
+                    let n = mesh.face_areas[f].normalize();
+                    own - n * own.dot(&n)
+                }
+                _ => own,
+            };
+        }
+    }
+    boundary_u
 }
 
 /// [(∇u)ᵀ − ⅔ tr(∇u) I]·S for g[i][j] = ∂u_j/∂x_i (the reference assembly's explicit part).

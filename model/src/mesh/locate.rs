@@ -92,7 +92,18 @@ impl Mesh {
         }
     }
 
-    fn locate_in_block(&self, block: &CylinderBlock, point: &Vec3) -> Option<usize> {
+    /// Whether `point` lies in a solid's staircase slot of a cylindrical block (blocked cells:
+    /// the rotor's material where the mesh has no cell).
+    pub fn in_solid(&self, point: &Vec3) -> bool {
+        match &self.locator {
+            Locator::Cylindrical { blocks } => blocks.iter().any(|b| !b.blocked.is_empty() && self.slot_in_block(b, point).is_some_and(|s| b.blocked[s])),
+            _ => false,
+        }
+    }
+
+    /// The (r, θ, z) slot of `block` whose index ranges hold `point` (θ in the zone's reference
+    /// pose); `None` outside the block's ranges.
+    fn slot_in_block(&self, block: &CylinderBlock, point: &Vec3) -> Option<usize> {
         let angle = self.zones[block.zone].rotation.as_ref().map_or(0.0, |r| r.angle);
         let r = point.x.hypot(point.y);
         let n_r = block.r_edges.len() - 1;
@@ -106,7 +117,11 @@ impl Mesh {
         let theta = (point.y.atan2(point.x) - angle).rem_euclid(TAU);
         let j = ((theta / TAU * block.n_theta as f64) as usize).min(block.n_theta - 1);
         let i = interval(&block.r_edges, r).unwrap_or(0);
-        let slot = i + n_r * (j + block.n_theta * k);
+        Some(i + n_r * (j + block.n_theta * k))
+    }
+
+    fn locate_in_block(&self, block: &CylinderBlock, point: &Vec3) -> Option<usize> {
+        let slot = self.slot_in_block(block, point)?;
         if block.cell_of_slot.is_empty() {
             return self.walk_to(block.first_cell + slot, point);
         }

@@ -35,7 +35,8 @@ use super::time_step::TimeStepControl;
 use crate::case::Case;
 use crate::closure::drag::FluidAtParticle;
 use crate::coupling::{CellLoad, ParticleMeshMap};
-use crate::cutter_head::spillage::{self, HullFaces, SpillageCounts};
+use crate::cutter_head::fluxes::HeadFluxes;
+use crate::cutter_head::spillage::{self, SpillageCounts};
 use crate::cutter_head::torque::{ControlVolume, TorqueBudget};
 use crate::cutter_head::CutterHead;
 use crate::fluid::sampling::sample_containing_cell;
@@ -68,8 +69,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     cell_load: Option<CellLoad>,
     /// Unit vector along gravity (settling velocities), if there is gravity.
     down: Option<Vec3>,
-    /// A cutter head's geometry and hull faces (spillage bookkeeping, hull fluxes).
-    head: Option<(CutterHead, HullFaces)>,
+    /// A cutter head's geometry and hulls (spillage bookkeeping, hull fluxes).
+    head: Option<(CutterHead, HeadFluxes)>,
     /// The rotor's angular-momentum budget of a fluid with a rotor (issue 16 check 3).
     torque: Option<TorqueBudget>,
     /// The wear phase (`[wear]`, set by [`Coupled::with_wear`]) and whether the case asks for one.
@@ -162,14 +163,14 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         let head = match (&case.cutter_head, &fluid) {
             (Some(section), Some(f)) => {
                 let head = CutterHead::new(section);
-                let faces = HullFaces::new(&head, f.mesh());
-                Some((head, faces))
+                let fluxes = HeadFluxes::new(case, &head, f.mesh()).map_err(unsupported)?;
+                Some((head, fluxes))
             }
             _ => None,
         };
         let torque = match &fluid {
             Some(f) => {
-                let control = head.as_ref().map(|(h, faces)| ControlVolume::new(spillage::inside_cells(h, f.mesh()), faces));
+                let control = head.as_ref().map(|(h, faces)| ControlVolume::new(spillage::inside_cells(h, f.mesh()), &faces.faces));
                 TorqueBudget::new(case, f.mesh(), control).map_err(unsupported)?
             }
             None => None,
@@ -424,15 +425,8 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             // issue 15: a step whose outer loop stopped at its cap unconverged, per step
             report.values.push(("outer_capped", if outcome.outer_capped { 1.0 } else { 0.0 }));
             self.state.courant = outcome.courant_max;
-            if let Some((head, faces)) = &self.head {
-                let q = faces.flux(&fluid.flux);
-                report.values.extend([
-                    ("hull_outflow", q.outflow),
-                    ("hull_net_flux", q.net),
-                    ("suction_flux", q.suction),
-                    ("outflow_ratio", q.outflow / head.suction_discharge),
-                    ("hull_outflow_top", q.outflow_top_bin),
-                ]);
+            if let Some((head, fluxes)) = &self.head {
+                fluxes.report(head, phase.mesh(), fluid, ctx.rotor.as_ref(), report);
             }
             if let (Some(budget), Some(before)) = (&self.torque, before) {
                 budget.after(phase.mesh(), fluid, &ctx, &before).report(ctx.rotor.map_or(0.0, |r| r.omega), report);
