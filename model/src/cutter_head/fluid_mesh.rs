@@ -101,7 +101,7 @@ pub fn build(section: &CutterHeadSection) -> Result<Mesh, MeshError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mesh::test_support::*;
 

@@ -2,9 +2,11 @@
 //! (a rotor zone with the head's solids removed as blocked cells, [`fluid_mesh`]), the DEM walls
 //! (the same solids as triangle meshes turning with the rotor, [`walls`]) and the spillage
 //! bookkeeping (the contour hull, the suction pipe, the fluxes through the hull, [`spillage`]),
-//! and the rotor's torque balance on the computed flow ([`torque`]).
+//! the rotor's torque balance on the computed flow ([`torque`]) and the haul velocity, a current
+//! past the head ([`current`]).
 //! spillage-and-flow-verification.md §2, §4, §5.
 
+pub mod current;
 pub mod fluid_mesh;
 pub mod geometry;
 pub mod settings;
