@@ -22,7 +22,7 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     if section.has_current() {
         // the current past the head (cutter_head::current), as `spillage check` prints it
         let tip = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity().abs()) * section.contour[0][1];
-        lines.push(format!("haul              {}", spillage::check::haul_line(section, tip).trim_start().trim_start_matches("haul ")));
+        lines.push(format!("haul velocity     {}", spillage::check::haul_line(section, tip).trim_start().trim_start_matches("haul velocity ")));
     }
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots)?;
