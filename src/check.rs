@@ -182,6 +182,7 @@ fn head_lines(case: &Case) -> Vec<String> {
             head.suction_discharge / (omega * r_c.powi(3))
         ),
     ];
+    lines.push(haul_line(head, omega * r_c));
     let points = head.contour.iter().map(|p| ProfilePoint { axial_distance: p[0], radius: p[1], blade_angle: p[2].to_radians() }).collect();
     if let Ok(profile) = CutterProfile::new(points) {
         if let Ok(sol) = solve(&SpillageInputs::calibrated_water(profile, rpm, head.suction_discharge)) {
@@ -193,6 +194,25 @@ fn head_lines(case: &Case) -> Vec<String> {
         }
     }
     lines
+}
+
+/// The head's haul velocity (the current past it, `cutter_head::current`) as `spillage check`
+/// and `spillage run` print it.
+pub fn haul_line(head: &spillage_model::cutter_head::CutterHeadSection, tip_speed: f64) -> String {
+    let u = head.haul_velocity;
+    let speed = u.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if speed == 0.0 {
+        return "             haul velocity 0 (still water; the tank wall is [boundary.tank])".to_string();
+    }
+    let ratio = if tip_speed > 0.0 { format!(", {:.3} of the tip speed", speed / tip_speed) } else { String::new() };
+    format!(
+        "             haul velocity [{}, {}, {}] m/s ({speed:.3} m/s{ratio}): a current past the head, imposed on the tank's side and floor (far field, tank radius {} m = {:.2} R_c)",
+        u[0],
+        u[1],
+        u[2],
+        head.tank.radius,
+        head.tank.radius / head.contour[0][1]
+    )
 }
 
 /// Smallest cell of `n` cells over `len` with geometric ratio `grading` of last to first.

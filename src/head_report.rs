@@ -19,6 +19,11 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     let Some(section) = &case.cutter_head else { return Ok(Vec::new()) };
     let head = CutterHead::new(section);
     let mut lines = Vec::new();
+    if section.has_current() {
+        // the current past the head (cutter_head::current), as `spillage check` prints it
+        let tip = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity().abs()) * section.contour[0][1];
+        lines.push(format!("haul velocity     {}", spillage::check::haul_line(section, tip).trim_start().trim_start_matches("haul velocity ")));
+    }
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots)?;
     let series_path = out.join("series.csv");

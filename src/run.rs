@@ -111,6 +111,10 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     summary.set_detail("case_file", case.path.display().to_string());
     summary.set_detail("threads", threads as u64);
     summary.set_detail("derived", serde_json::to_value(spillage::check::derive(&case))?);
+    if let Some(head) = &case.cutter_head {
+        // the current past the head (cutter_head::current), [0, 0, 0] in still water
+        summary.set_detail("haul_velocity", serde_json::to_value(head.haul_velocity)?);
+    }
     if let Some(path) = &opts.restart {
         summary.set_detail("restarted_from", path.display().to_string());
     }

@@ -39,6 +39,12 @@ pub const SUBSTEPS_MAX: f64 = 1e7;
 pub const PARTICLES_MAX: f64 = 1e7;
 /// |g| [m/s²]: a centrifuge reaches 1e4 g; nothing here does.
 pub const GRAVITY_MAX: f64 = 1e4;
+/// Haul velocity of a cutter head [m/s]: ten times a prototype's fastest swing (0.2 m/s,
+/// spillage-and-flow-verification.md §1.4 Tab. 2.1) and about the 1:4 head's tip speed at
+/// 60 rpm. Beyond it the head is towed rather than swung, and the tank wall, the current's
+/// Dirichlet far field (`cutter_head::current`), would have to lie far beyond any tank the
+/// mesh can afford.
+pub const HAUL_MAX: f64 = 2.0;
 
 fn norm(v: &[f64; 3]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
@@ -95,6 +101,16 @@ pub fn check(case: &Case) -> Result<(), FieldError> {
         at_most("fluid.kinematic_viscosity", fluid.kinematic_viscosity, VISCOSITY_MAX, "a kinematic viscosity (m²/s)")?;
         if let InitialVelocity::Uniform { velocity } = &fluid.initial {
             speed("fluid.initial.velocity", velocity)?;
+        }
+    }
+    if let Some(head) = &case.cutter_head {
+        let v = norm(&head.haul_velocity);
+        if v > HAUL_MAX {
+            return Err(FieldError::new(
+                "cutter_head.haul_velocity",
+                format!("{:?} (|U| = {v:e} m/s)", head.haul_velocity),
+                format!("a current of at most {HAUL_MAX} m/s (a dredger swings at 0.1–0.2 m/s, a 1:4 model at 0.05–0.1 m/s)"),
+            ));
         }
     }
     // the farthest radius a wall or the rotor turns at

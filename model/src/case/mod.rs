@@ -66,6 +66,10 @@ pub struct Case {
     /// `boundary` ([`Case::finish`]).
     #[serde(skip)]
     derived_conditions: bool,
+    /// The file's `[boundary.tank]` while a cutter head's current replaces it by the far field
+    /// ([`crate::cutter_head::current`]), put back by [`Case::finish`].
+    #[serde(skip)]
+    still_tank: Option<BoundaryCondition>,
     /// Whether `time.end_time` was derived from `time.revolutions` ([`Case::finish`]).
     #[serde(skip)]
     derived_end_time: bool,
@@ -125,6 +129,9 @@ impl Case {
             for p in crate::cutter_head::fluid_mesh::FLOW_PATCHES {
                 self.boundary.remove(p);
             }
+            if let Some(tank) = self.still_tank.take() {
+                self.boundary.insert("tank".into(), tank);
+            }
             self.derived_conditions = false;
         }
         self.validate()?;
@@ -141,14 +148,21 @@ impl Case {
 
     /// A cutter head's tank floor gets the uniform upward velocity that carries
     /// `cutter_head.suction_discharge` in through the exact area of its faces, and the pipe's
-    /// end a fixed-pressure outlet ([`crate::cutter_head::fluid_mesh::FLOW_PATCHES`]).
+    /// end a fixed-pressure outlet ([`crate::cutter_head::fluid_mesh::FLOW_PATCHES`]). With a
+    /// `haul_velocity` the floor and the tank's side also carry the current, the far field of
+    /// [`crate::cutter_head::current`] (the file's `[boundary.tank]` is kept for still water).
     fn add_suction_condition(&mut self) -> Result<(), FieldError> {
+        use crate::cutter_head::current;
         let Some(head) = &self.cutter_head else { return Ok(()) };
         let area = crate::cutter_head::fluid_mesh::floor_area(head)
             .map_err(|e| FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"))?;
         let velocity = head.suction_discharge / area;
-        self.boundary.insert("floor".into(), BoundaryCondition::VelocityInlet { velocity: [0.0, 0.0, velocity], profile: None });
+        let tank = current::tank_condition(head);
+        self.boundary.insert("floor".into(), current::floor_condition(head, velocity));
         self.boundary.insert("suction".into(), BoundaryCondition::PressureOutlet { pressure: 0.0 });
+        if let Some(tank) = tank {
+            self.still_tank = self.boundary.insert("tank".into(), tank);
+        }
         self.derived_conditions = true;
         Ok(())
     }
@@ -261,6 +275,15 @@ impl Case {
                         format!("(a [boundary.{p}] section)"),
                         "none: the floor's inflow and the pipe's outflow follow from cutter_head.suction_discharge",
                     ));
+                }
+                if let (Some(head), Some(tank)) = (&self.cutter_head, self.boundary.get("tank")) {
+                    if head.has_current() && !self.derived_conditions && !crate::cutter_head::current::still_tank(tank) {
+                        return Err(FieldError::new(
+                            "boundary.tank",
+                            format!("{tank:?}"),
+                            "a still tank's wall (type = \"wall\" at rest, or \"symmetry\") with cutter_head.haul_velocity: the current's far field replaces it",
+                        ));
+                    }
                 }
                 Some(PATCHES.iter().filter(|p| !FLOW_PATCHES.contains(p)).map(|p| p.to_string()).collect::<Vec<_>>())
             }

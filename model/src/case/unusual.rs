@@ -16,6 +16,9 @@ const DIAMETER: (f64, f64) = (1e-5, 1.0);
 const DENSITY: (f64, f64) = (500.0, 25_000.0);
 /// Steps above which a run takes days.
 const MANY_STEPS: f64 = 1e7;
+/// Haul velocity above which a swing is unusual [m/s]: prototypes swing at 0.1–0.2 m/s, the
+/// 1:4 model at 0.05–0.1 m/s (spillage-and-flow-verification.md §1.4, Tab. 2.1).
+const FAST_HAUL: f64 = 0.5;
 
 /// Warnings about allowed but unusual values, each naming the key, the value and why.
 pub fn warnings(case: &Case) -> Vec<String> {
@@ -28,6 +31,14 @@ pub fn warnings(case: &Case) -> Vec<String> {
         };
         if v > FAST {
             out.push(format!("boundary.{name}.velocity: {v:e} m/s is fast for a dredger (above {FAST} m/s)"));
+        }
+    }
+    if let Some(head) = &case.cutter_head {
+        let v = norm(&head.haul_velocity);
+        if v > FAST_HAUL {
+            out.push(format!(
+                "cutter_head.haul_velocity: {v} m/s is a fast swing (above {FAST_HAUL} m/s; prototypes 0.1–0.2, the 1:4 model 0.05–0.1 m/s): a larger tank.radius keeps the far field away from the head"
+            ));
         }
     }
     let steps = match (case.time.dt, case.time.end_time, case.time.steps) {

@@ -3,9 +3,11 @@
 //! (the same solids as triangle meshes turning with the rotor, [`walls`]) and the spillage
 //! bookkeeping (the contour hull, the suction pipe, [`spillage`]), the fluxes through the hull
 //! ([`fluxes`]: the solver's face fluxes and the thesis' interpolated surface, [`hull_surface`]),
-//! and the rotor's torque balance on the computed flow ([`torque`]).
+//! the rotor's torque balance on the computed flow ([`torque`]) and the haul velocity, a current
+//! past the head ([`current`]).
 //! spillage-and-flow-verification.md §2, §4, §5.
 
+pub mod current;
 pub mod fluid_mesh;
 pub mod fluxes;
 pub mod geometry;

@@ -6,7 +6,7 @@
 
 use serde::Deserialize;
 
-use crate::case::error::{in_range, positive, FieldError};
+use crate::case::error::{finite_vector, in_range, positive, FieldError};
 
 /// `[cutter_head]`
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -48,6 +48,13 @@ pub struct CutterHeadSection {
     pub capture_height: f64,
     /// `[[particles.materials]]` entry of the head's steel (DEM walls).
     pub material: Option<String>,
+    /// Haul (swing) velocity [m/s]: a uniform current past the head in its frame, across the
+    /// axis (z component 0; the swing is horizontal and normal to the ladder, so along ±y
+    /// with gravity tilted in the x–z plane). Imposed on the tank's side and floor as a far
+    /// field ([`super::current`], spillage-and-flow-verification.md §6.1 item 3, §5.4
+    /// difference 3). Default: still water.
+    #[serde(default)]
+    pub haul_velocity: [f64; 3],
     pub tank: TankSection,
     pub mesh: HeadMeshSection,
 }
@@ -99,6 +106,11 @@ impl CutterHeadSection {
         }
     }
 
+    /// Whether a haul velocity (a current past the head) is set.
+    pub fn has_current(&self) -> bool {
+        self.haul_velocity.iter().any(|v| *v != 0.0)
+    }
+
     /// H, the axial distance from the ring to the hub.
     pub fn height(&self) -> f64 {
         self.contour.last().map_or(0.0, |p| p[0])
@@ -138,6 +150,14 @@ impl CutterHeadSection {
         positive(&key("pipe_length"), self.pipe_length, "m")?;
         positive(&key("pipe_wall"), self.pipe_wall, "m")?;
         positive(&key("capture_height"), self.capture_height, "m")?;
+        finite_vector(&key("haul_velocity"), self.haul_velocity)?;
+        if self.haul_velocity[2] != 0.0 {
+            return Err(FieldError::new(
+                key("haul_velocity"),
+                format!("{:?}", self.haul_velocity),
+                "a current across the head's axis, [v_x, v_y, 0] m/s (the tank's top is a lid, so no current can pass along z; a swing is along ±y)",
+            ));
+        }
         let ring_radius = self.contour[0][1];
         if !(self.ring_inner_radius > self.shaft_radius && self.ring_inner_radius < ring_radius) {
             return Err(FieldError::new(

@@ -8,7 +8,8 @@ use super::state::FluidState;
 /// The case's initial velocity in every cell (at rest without a `[fluid]` section), zero
 /// pressure, α_c = 1, and on internal faces the flux of the linearly interpolated initial
 /// velocity, (w u_P + (1−w) u_N)·S (made divergence-free by the first step); the old levels
-/// equal the new ones.
+/// equal the new ones. A cutter head's haul velocity is added outside the head
+/// ([`crate::cutter_head::current::initial_velocity`]).
 pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
     let n_cells = mesh.n_cells();
     let mut state = FluidState::at_rest(n_cells, mesh.n_faces(), mesh.n_internal_faces);
@@ -17,6 +18,14 @@ pub fn initial_fluid_state(case: &Case, mesh: &Mesh) -> FluidState {
         for c in 0..n_cells {
             let x = mesh.cell_centres[c];
             state.velocity[c] = fluid.initial.velocity_at([x.x, x.y, x.z], rotor);
+        }
+        // a cutter head's current (haul velocity) starts outside the head
+        if let Some(section) = case.cutter_head.as_ref().filter(|h| h.has_current()) {
+            let head = crate::cutter_head::CutterHead::new(section);
+            for c in 0..n_cells {
+                let x = mesh.cell_centres[c];
+                state.velocity[c] = crate::cutter_head::current::initial_velocity(&head, section.haul_velocity, [x.x, x.y, x.z], state.velocity[c]);
+            }
         }
     }
     state.velocity_old = state.velocity.clone();
