@@ -73,6 +73,10 @@ impl Progress {
             Some(n) => format!("t = {:.4e} s, step {}/{n}", state.time, state.step),
             None => format!("t = {:.4e} s, step {}", state.time, state.step),
         };
+        if state.time < 0.0 {
+            // spillage_model::fluid::frozen_rotor: the run starts at t = −T
+            msg.push_str(", frozen-rotor start-up");
+        }
         if self.head {
             msg.push_str(&format!(", revolution {:.2}", state.rotor_angle.abs() / std::f64::consts::TAU));
             let value = |name: &str| report.values.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);

@@ -132,6 +132,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         step_seconds: 0.0,
         particle_substeps: 0.0,
         outer: OuterLoop::default(),
+        start_up: (0, 0.0),
     };
     let result = run.time_loop(solver.as_mut(), &mut progress);
     progress.finish();
@@ -152,7 +153,12 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         }
         let turned = (state.rotor_angle - restart_angle).abs() / std::f64::consts::TAU;
         if turned > 0.0 {
-            summary.set_result("seconds_per_revolution", run.step_seconds / turned);
+            // the frozen-rotor start-up does not turn the rotor: its time is not a revolution's
+            summary.set_result("seconds_per_revolution", (run.step_seconds - run.start_up.1) / turned);
+        }
+        if run.start_up.0 > 0 {
+            summary.set_result("start_up_steps", run.start_up.0 as f64);
+            summary.set_timing("start_up", run.start_up.1);
         }
     }
     summary.set_result("final_time", state.time);
@@ -184,6 +190,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     }
     if let Some(note) = run.outer.retry_note(run.steps) {
         eprintln!("{note}");
+    }
+    if run.start_up.0 > 0 {
+        eprintln!("frozen-rotor start-up: {} steps (t ≤ 0 in series.csv) in {:.1} s", run.start_up.0, run.start_up.1);
     }
     for line in crate::head_report::report(&case, state, &out)?.into_iter().chain(crate::wear_report::report(&case, state, &out)?) {
         eprintln!("{line}");
@@ -222,6 +231,9 @@ struct Running<'a> {
     /// Σ DEM sub-steps × particles over the steps run (the DEM's work, for its speed).
     particle_substeps: f64,
     outer: OuterLoop,
+    /// Steps and seconds of a frozen-rotor start-up (the steps that end at t ≤ 0,
+    /// spillage_model::fluid::frozen_rotor).
+    start_up: (u64, f64),
 }
 
 /// Steps whose PIMPLE outer loop stopped at `[numerics] max_outer_iterations` with the pressure
@@ -297,9 +309,14 @@ impl Running<'_> {
         while !self.finished(solver.state()) {
             let t0 = Instant::now();
             solver.step_into(&mut report)?;
-            self.step_seconds += t0.elapsed().as_secs_f64();
+            let seconds = t0.elapsed().as_secs_f64();
+            self.step_seconds += seconds;
             self.steps += 1;
             let state = solver.state();
+            if state.time <= 0.0 {
+                self.start_up.0 += 1;
+                self.start_up.1 += seconds;
+            }
             if let Some((name, value)) = report.values.iter().find(|(_, v)| !v.is_finite()) {
                 return Err(SolverError::Diverged { step: state.step, time: state.time, what: format!("{name} = {value}") }.into());
             }

@@ -5,6 +5,7 @@
 
 use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::fluid::conditions::Condition;
+use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
 use spillage_model::turbulence::Viscosity;
@@ -46,6 +47,10 @@ pub struct MomentumInputs<'a> {
     /// reference (`spillage_reference::fluid::momentum` doc, wear-model.md §2.6 [R]).
     pub rotating_frame: Option<&'a RotatingFrame>,
     pub cell_centres: &'a [Vec3],
+    /// The frame term of a frozen-rotor step, −α_c Ω×u* V in the rotor zone's cells
+    /// (`in_rotor`), as in the reference (spillage_model::fluid::frozen_rotor).
+    pub frozen_rotor: Option<FrozenRotor>,
+    pub in_rotor: &'a [bool],
     /// Latest velocity u*, and uᵒ, uᵒᵒ (old levels in the source), by component.
     pub velocity: &'a [Vec<f64>; 3],
     pub velocity_old: &'a [Vec<f64>; 3],
@@ -66,6 +71,7 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
     let (viscosity, body_force) = (inputs.viscosity, inputs.body_force);
     let n_internal_faces = disc.links.n_internal;
     let (rotating_frame, cell_centres) = (inputs.rotating_frame, inputs.cell_centres);
+    let (frozen_rotor, in_rotor) = (inputs.frozen_rotor, inputs.in_rotor);
     let links = disc.links;
     let (velocity, gradient) = (inputs.velocity, inputs.velocity_gradient);
     {
@@ -112,6 +118,9 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
         source += body_force * v;
         if let Some(frame) = rotating_frame {
             source += frame.fictitious_acceleration(vec_of(velocity, c), cell_centres[c]) * (alpha.current[c] * v);
+        }
+        if let Some(frozen) = frozen_rotor.filter(|_| in_rotor[c]) {
+            source += frozen.acceleration(vec_of(velocity, c)) * (alpha.current[c] * v);
         }
         if let Some(particles) = particles {
             diag += particles.implicit_drag[c];

@@ -14,6 +14,7 @@ use spillage_model::case::Case;
 use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::conditions::Conditions;
+use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
 use spillage_model::fluid::settings::NumericsSection;
@@ -62,6 +63,8 @@ pub struct FastFluid {
     body_force: Vec3,
     /// The case's rotating frame (wear-model.md §2.6), if any.
     rotating_frame: Option<RotatingFrame>,
+    /// The frame term of the step being taken if it is a frozen-rotor step.
+    frozen_rotor: Option<FrozenRotor>,
     rotor: Option<Rotor>,
     /// Axis frame of the sliding interfaces (the rotating zone's rotation).
     frame: Option<Frame>,
@@ -151,6 +154,7 @@ impl FastFluid {
             density: fluid.density,
             body_force,
             rotating_frame,
+            frozen_rotor: None,
             rotor,
             frame,
             dt: 0.0,
@@ -320,6 +324,8 @@ impl FastFluid {
                 body_force: self.body_force,
                 rotating_frame: self.rotating_frame.as_ref(),
                 cell_centres: &self.mesh.cell_centres,
+                frozen_rotor: self.frozen_rotor,
+                in_rotor: &self.in_rotor,
                 velocity: &b.velocity,
                 velocity_old: &b.velocity_old,
                 velocity_old_old: &b.velocity_old_old,
@@ -452,6 +458,7 @@ impl FluidPhase for FastFluid {
         self.time_coefficients = ctx.time_coefficients;
         self.step_number = ctx.step;
         self.step_time_end = ctx.time_end();
+        self.frozen_rotor = FrozenRotor::of_step(ctx);
         // 1. rotor
         self.turn_rotor(ctx.rotor.as_ref())?;
         std::mem::swap(&mut self.fluid, fluid);

@@ -238,12 +238,13 @@ impl Case {
             }
         }
         if let Some(fluid) = &self.fluid {
-            if matches!(fluid.initial, crate::fluid::settings::InitialVelocity::SolidBody { .. })
+            if matches!(fluid.initial.start_field(), crate::fluid::settings::InitialVelocity::SolidBody { .. })
                 && self.rotor.as_ref().is_none_or(|r| r.axis[0] != 0.0 || r.axis[1] != 0.0)
             {
                 return Err(FieldError::new("fluid.initial.type", "\"solid_body\"", "a solid-body start only with a [rotor] turning about z"));
             }
         }
+        crate::fluid::frozen_rotor::check_case(self)?;
         if let (Some(frame), Some(mesh)) = (&self.physics.rotating_frame, &self.mesh) {
             // A 2-D mesh solves no velocity along z: with the axis along z every fictitious force
             // (Ω×u, Ω×(Ω×r), both ⊥ Ω) lies in the plane; with any other axis a 2-D run would drop

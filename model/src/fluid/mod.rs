@@ -2,6 +2,7 @@
 //! conditions, time coefficients, the initial state and the fluid state.
 
 pub mod conditions;
+pub mod frozen_rotor;
 pub mod initial;
 pub mod sampling;
 pub mod settings;

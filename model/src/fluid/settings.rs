@@ -46,6 +46,17 @@ pub enum InitialVelocity {
     /// r < `radius`, `z[0]` < z < `z[1]` about the rotor axis z; at rest outside: a start-up
     /// closer to the turning head's flow than rest (spillage-and-flow-verification.md §4.2).
     SolidBody { radius: f64, z: [f64; 2] },
+    /// A frozen-rotor (multiple reference frame, MRF) start-up of `time` seconds before the
+    /// sliding-mesh run starts at t = 0 ([`crate::fluid::frozen_rotor`]; spec
+    /// spillage-and-flow-verification.md §4.2, §5.4): the run starts at t = −`time` from
+    /// `from` (default at rest) with the rotor zone held at its start pose while ω acts.
+    FrozenRotor {
+        /// Length of the start-up in pseudo-time [s].
+        time: f64,
+        /// The velocity the start-up begins from (any other `type`; default `rest`).
+        #[serde(default)]
+        from: Option<Box<InitialVelocity>>,
+    },
 }
 
 impl InitialVelocity {
@@ -66,6 +77,28 @@ impl InitialVelocity {
                 }
                 Ok(())
             }
+            InitialVelocity::FrozenRotor { time, from } => {
+                positive(&format!("{key}.time"), *time, "s (the length of the frozen-rotor start-up)")?;
+                match from.as_deref() {
+                    Some(InitialVelocity::FrozenRotor { .. }) => Err(FieldError::new(
+                        format!("{key}.from.type"),
+                        "\"frozen_rotor\"",
+                        "\"rest\", \"uniform\", \"taylor_green\" or \"solid_body\" (a start-up begins from a velocity field)",
+                    )),
+                    Some(inner) => inner.validate(&format!("{key}.from")),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+
+    /// The velocity field the run starts from: the `from` of a frozen-rotor start-up, else
+    /// `self`.
+    pub fn start_field(&self) -> &InitialVelocity {
+        match self {
+            InitialVelocity::FrozenRotor { from: Some(inner), .. } => inner,
+            InitialVelocity::FrozenRotor { from: None, .. } => &InitialVelocity::Rest,
+            other => other,
         }
     }
 
@@ -82,6 +115,7 @@ impl InitialVelocity {
                 }
             }
             InitialVelocity::Rest => [0.0; 3],
+            InitialVelocity::FrozenRotor { .. } => self.start_field().velocity_at(x, rotor),
             InitialVelocity::Uniform { velocity } => *velocity,
             InitialVelocity::TaylorGreen { speed, length } => {
                 let (a, b) = (x[0] / length, x[1] / length);

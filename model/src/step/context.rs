@@ -22,6 +22,9 @@ pub struct StepContext {
     pub rotor_start: Option<RotorPose>,
     /// The rotor at tⁿ⁺¹: the pose the fluid is solved at.
     pub rotor: Option<RotorPose>,
+    /// A frozen-rotor start-up step: the rotor keeps its pose while ω acts, and the fluid adds
+    /// the frame term ([`crate::fluid::frozen_rotor`]). Set by the start-up only.
+    pub frozen_rotor: bool,
 }
 
 impl StepContext {
@@ -36,6 +39,7 @@ impl StepContext {
             time_coefficients: time_coefficients(scheme, step <= 1, dt, dt_old),
             rotor_start,
             rotor: rotor_start.map(|r| r.advanced(dt)),
+            frozen_rotor: false,
         }
     }
 
@@ -48,6 +52,9 @@ impl StepContext {
     /// arithmetic as [`RotorPose::advanced`], so the pose at `elapsed = dt` is the end pose bit
     /// for bit.
     pub fn rotor_after(&self, elapsed: f64) -> Option<RotorPose> {
+        if self.frozen_rotor {
+            return self.rotor_start;
+        }
         self.rotor_start.map(|r| r.advanced(elapsed))
     }
 }

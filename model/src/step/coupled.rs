@@ -4,7 +4,8 @@
 //! 1. clock: Δt (fixed, or from the Courant number, [`super::time_step`]), the time
 //!    coefficients and the rotor pose at tⁿ and tⁿ⁺¹ ([`StepContext`]); the fluid mesh's rotor
 //!    zone is turned to tⁿ⁺¹ first, because particles are located in the new mesh position
-//!    (spec §8.7 [R]);
+//!    (spec §8.7 [R]); the steps of a frozen-rotor start-up (t < 0) keep the pose
+//!    ([`crate::fluid::frozen_rotor`]);
 //! 2. feed: particles owed by the feeds are placed ([`bookkeeping::feed`]);
 //! 3. sample: the fluid each particle sees, held for the whole step (§5.10);
 //! 4. DEM sub-steps: particles and walls to tⁿ⁺¹ ([`ParticlePhase::advance`]);
@@ -39,6 +40,7 @@ use crate::cutter_head::fluxes::HeadFluxes;
 use crate::cutter_head::spillage::{self, SpillageCounts};
 use crate::cutter_head::torque::{ControlVolume, TorqueBudget};
 use crate::cutter_head::CutterHead;
+use crate::fluid::frozen_rotor::StartUp;
 use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
@@ -81,6 +83,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     closed_patches: Vec<bool>,
     /// Whether the failure of the last step came from the fluid phase ([`retry`]).
     failed_in_fluid: bool,
+    /// A frozen-rotor start-up (`[fluid] initial`, [`crate::fluid::frozen_rotor`]).
+    start_up: Option<StartUp>,
     label: &'static str,
 }
 
@@ -117,6 +121,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             return Err(unsupported("the state has particles but no walls"));
         }
         let time_step = TimeStepControl::from_case(case, fluid.is_some())?;
+        let start_up = StartUp::of_case(case);
+        if let Some(s) = start_up.filter(|_| state.step == 0 && state.time == 0.0) {
+            // a fresh run of a frozen-rotor start begins with the start-up, before t = 0
+            state.time = s.start_time();
+        }
         let rotor = RotorPose::from_case(case, state.rotor_angle);
         if let Some(f) = fluid.as_mut() {
             f.place_rotor(rotor.as_ref())?;
@@ -199,6 +208,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             wear: None,
             wear_in_case: case.wear.is_some(),
             failed_in_fluid: false,
+            start_up,
             label,
         })
     }
@@ -276,6 +286,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         report.values.clear();
         // 1. clock and rotor pose
         let ctx = StepContext::new(self.state.step + 1, self.state.time, dt, self.state.dt, self.scheme, self.rotor());
+        let ctx = self.start_up.map_or(ctx, |s| s.step(ctx, self.scheme));
         let diverged = |what: String| SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what };
         if ctx.time_end() <= ctx.time {
             return Err(diverged(format!("the time step {dt:e} s no longer advances the clock from t = {} s", ctx.time)));

@@ -8,6 +8,8 @@
 //! (variable-step BDF2 stays second order and stable for such ratios). It is capped by
 //! `max_dt` and, with `end_time`, lands on it exactly: when less than 1.5 steps remain, the
 //! remainder is taken in one step (≤ Δt) or two equal ones, so no sliver of a step is left.
+//! A frozen-rotor start-up (t < 0, `crate::fluid::frozen_rotor`) lands on t = 0 the same way,
+//! with a fixed Δt too.
 //! The first step takes
 //! min(Co_max / (Co per second of the start state), `max_dt`).
 //!
@@ -79,9 +81,12 @@ impl TimeStepControl {
             }
         };
         // land on end_time exactly rather than overshoot it or leave a sliver (module doc); the
-        // run loop ends within 1e-12 relative of end_time
+        // run loop ends within 1e-12 relative of end_time. A frozen-rotor start-up (t < 0) lands
+        // on t = 0 the same way, with either control (crate::fluid::frozen_rotor).
+        let start_up = state.time < 0.0;
+        let (end_time, landing) = if start_up { (Some(0.0), true) } else { (end_time, matches!(self, TimeStepControl::Courant { .. })) };
         Ok(match end_time {
-            Some(end) if matches!(self, TimeStepControl::Courant { .. }) && end - state.time < 1.5 * dt && end > state.time => {
+            Some(end) if landing && end - state.time < 1.5 * dt && end > state.time => {
                 let remaining = end - state.time;
                 if remaining <= dt {
                     remaining
@@ -133,6 +138,24 @@ mod tests {
         let state = State { time: 0.87 + dt, step: 4, dt, courant: 0.5, ..State::default() };
         let last = control.next_dt(&state, || 0.0).unwrap();
         assert!((state.time + last - 1.0).abs() < 1e-15, "{}", state.time + last);
+    }
+
+    #[test]
+    fn a_frozen_rotor_start_up_lands_on_zero_with_either_control() {
+        for control in
+            [TimeStepControl::Fixed { dt: 0.3, end_time: Some(5.0) }, TimeStepControl::Courant { max_courant: 0.5, max_dt: 0.3, end_time: Some(5.0) }]
+        {
+            let mut state = State { time: -1.0, step: 0, dt: 0.0, courant: 0.5, ..State::default() };
+            let mut steps = 0;
+            while state.time < 0.0 {
+                let dt = control.next_dt(&state, || 0.5 / 0.3).unwrap();
+                assert!(dt >= 0.15 - 1e-15 && dt <= 0.3, "{dt}: no sliver, no step longer than asked");
+                state = State { time: state.time + dt, step: state.step + 1, dt, ..state };
+                steps += 1;
+            }
+            // 1 s in steps of at most 0.3 s: 0.3, 0.3, then 0.4 s left in two of 0.2 s
+            assert_eq!((state.time, steps), (0.0, 4), "{control:?}");
+        }
     }
 
     #[test]

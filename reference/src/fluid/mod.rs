@@ -33,7 +33,9 @@
 //!       (αν)_f (∇u)_f·(S − |S|²/(d·S) d) explicit, (∇u)_f linearly interpolated; explicit
 //!       Σ (αν)_f[(∇u)_fᵀ − ⅔tr(∇u)_f I]·S (cell gradient on boundary faces); body force
 //!       (g + `body_force`)V; in a rotating frame α(−2Ω×u* − Ω×(Ω×(x_c − x₀)))V, Coriolis in
-//!       the latest iterate u* ([`momentum`] doc, wear-model.md §2.6); fixed-velocity faces:
+//!       the latest iterate u* ([`momentum`] doc, wear-model.md §2.6); in a frozen-rotor
+//!       start-up step (the pose of step 2 keeps its angle, ω stays) −α Ω×u* V in the rotor
+//!       zone's cells (spillage_model::fluid::frozen_rotor, OpenFOAM's MRF); fixed-velocity faces:
 //!       −α_P(φ_b − φ_mesh)u_b in the source and ν α_P|S|/d_n on the diagonal, ν α_P|S|/d_n u_b
 //!       in the source; pressure-outlet faces: α_P(φ_b − φ_mesh) on the diagonal; symmetry:
 //!       viscous flux towards the slip value of u*.

@@ -20,6 +20,10 @@
 //! term against the time term of the diagonal), so it needs 2|Ω|Δt/c₀ < 1 (an estimate; the
 //! verification cases run at 0.13).
 //!
+//! In a frozen-rotor step (the start-up of `[fluid] initial = { type = "frozen_rotor" }`,
+//! spillage_model::fluid::frozen_rotor, spillage-and-flow-verification.md §4.2) the rotor
+//! zone's cells also get −α_c Ω×u* V (OpenFOAM's MRF term), explicit in u* like Coriolis.
+//!
 //! Convection is implicit with the latest flux φ* and the scheme's face weight; the Laplacian
 //! is implicit with the over-relaxed non-orthogonal split and an explicit correction; the
 //! transpose and dilatation parts are explicit from the latest iterate (spec §8.2). The pressure
@@ -29,6 +33,7 @@
 use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::mask::{band_weight, BandRate};
 use spillage_model::coupling::CellLoad;
+use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
 use spillage_model::turbulence::Viscosity;
@@ -62,6 +67,10 @@ pub struct StepInputs<'a> {
     /// The case's rotating frame (module doc), if any, and the cell centres it is evaluated at.
     pub rotating_frame: Option<RotatingFrame>,
     pub cell_centres: &'a [Vec3],
+    /// The frame term of a frozen-rotor step (module doc), if this is one, and which cells
+    /// are the rotor zone's.
+    pub frozen_rotor: Option<FrozenRotor>,
+    pub in_rotor: &'a [bool],
     /// Fixed boundary velocity of each boundary face (`None` for pressure/symmetry faces).
     pub boundary_velocity: &'a [Option<Vec3>],
     /// Per link: the time-derivative flux correction divided by rAU_f (module doc step 4d),
@@ -141,6 +150,9 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         source[c] += inputs.body_force * v;
         if let Some(frame) = &inputs.rotating_frame {
             source[c] += frame.fictitious_acceleration(u[c], inputs.cell_centres[c]) * (inputs.alpha[c] * v);
+        }
+        if let Some(frozen) = inputs.frozen_rotor.filter(|_| inputs.in_rotor[c]) {
+            source[c] += frozen.acceleration(u[c]) * (inputs.alpha[c] * v);
         }
         if let Some(load) = inputs.load {
             m.add_diagonal(c, load.implicit_drag[c] / inputs.density);

@@ -3,6 +3,7 @@
 use spillage_model::case::Case;
 use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
+use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
 use spillage_model::fluid::settings::NumericsSection;
@@ -149,6 +150,8 @@ impl ReferenceFluid {
             body_force: self.body_force,
             rotating_frame: self.rotating_frame,
             cell_centres: &self.mesh.cell_centres,
+            frozen_rotor: FrozenRotor::of_step(ctx),
+            in_rotor: &moved,
             boundary_velocity: &boundary_velocity,
             ddt_flux_correction: &ddt_flux_correction,
             load,
