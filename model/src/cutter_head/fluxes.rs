@@ -32,6 +32,12 @@ impl HeadFluxes {
         })
     }
 
+    /// The head with its fluxes (what the coupled driver keeps).
+    pub fn with_head(case: &Case, head: CutterHead, mesh: &Mesh) -> Result<(CutterHead, HeadFluxes), String> {
+        let fluxes = HeadFluxes::new(case, &head, mesh)?;
+        Ok((head, fluxes))
+    }
+
     /// Appends the fluxes of `fluid` (at the end of a step, `mesh` and `pose` at its time).
     pub fn report(&self, head: &CutterHead, mesh: &Mesh, fluid: &FluidState, pose: Option<&RotorPose>, report: &mut StepReport) {
         let q = self.faces.flux(&fluid.flux);

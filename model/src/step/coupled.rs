@@ -170,16 +170,12 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         let g = Vec3::from(case.physics.gravity);
         let down = (g.norm() > 0.0).then(|| g.normalize());
         let head = match (&case.cutter_head, &fluid) {
-            (Some(section), Some(f)) => {
-                let head = CutterHead::new(section);
-                let fluxes = HeadFluxes::new(case, &head, f.mesh()).map_err(unsupported)?;
-                Some((head, fluxes))
-            }
+            (Some(section), Some(f)) => Some(HeadFluxes::with_head(case, CutterHead::new(section), f.mesh()).map_err(unsupported)?),
             _ => None,
         };
         let torque = match &fluid {
             Some(f) => {
-                let control = head.as_ref().map(|(h, faces)| ControlVolume::new(spillage::inside_cells(h, f.mesh()), &faces.faces));
+                let control = head.as_ref().map(|(h, fluxes)| ControlVolume::new(spillage::inside_cells(h, f.mesh()), &fluxes.faces));
                 TorqueBudget::new(case, f.mesh(), control).map_err(unsupported)?
             }
             None => None,
