@@ -2,7 +2,7 @@
 //! fields, precomputed face geometry updated in place, rayon with fixed-order reductions so the
 //! results are bit-identical on any number of threads, preconditioned Krylov solvers with an
 //! aggregation multigrid for the pressure), the DEM ([`dem`]: struct-of-arrays particles, a
-//! neighbour list with contact histories in its slots, walls through their BVHs) and the wear
+//! neighbour list with contact histories beside its pairs, walls through their BVHs) and the wear
 //! phase ([`wear`]) on the same linear solvers.
 
 pub mod coupling;

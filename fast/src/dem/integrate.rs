@@ -38,7 +38,7 @@ pub enum Half {
 }
 
 /// One half of a sub-step of length `dt` for every particle; `fluid` is indexed by the
-/// state's order. Returns the work of the non-contact forces [J] (summed in internal order)
+/// state's order (empty: no particle sees a fluid). Returns the work of the non-contact forces [J] (summed in internal order)
 /// and, after the drift, the largest squared displacement from `origins` (the neighbour list's
 /// build positions; NaN when they are not these particles').
 pub fn half_step(

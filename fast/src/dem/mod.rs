@@ -3,9 +3,9 @@
 //! and held to the same bits:
 //!
 //! * particles as struct-of-arrays in cell order ([`arrays`]), re-sorted every outer step;
-//! * a half neighbour list with a skin over a sorted cell list, contact histories in its
-//!   slots ([`neighbour_list`]);
-//! * pair forces evaluated in parallel into the slots and summed per particle in the
+//! * a half neighbour list with a skin over a sorted cell list, contact histories beside its
+//!   pairs ([`neighbour_list`]);
+//! * pair forces evaluated in parallel into the pairs' entries and summed per particle in the
 //!   reference's order ([`pair_forces`]);
 //! * wall contacts per particle against each wall's bounding-volume hierarchy in its body
 //!   frame, the near triangles kept while the particle stays within the skin
@@ -64,6 +64,10 @@ pub struct FastDem {
     wall_sides: Vec<WallSide>,
     /// Each particle's near triangles of each wall (particle-major, in internal order).
     near: Vec<NearTriangles>,
+    /// Whether the last evaluation gave each particle a wall contact, impact or fault: the
+    /// serial pass over the walls' results reads only these sides (a dense bed has a few
+    /// particles at its walls; a pass over all would bound the scaling with threads).
+    at_wall: Vec<bool>,
     frames: Vec<WallFrame>,
     sums: StepSums,
     budget: EnergyBudget,
@@ -97,6 +101,7 @@ impl FastDem {
             list: NeighbourList::default(),
             wall_sides: Vec::new(),
             near: Vec::new(),
+            at_wall: Vec::new(),
             frames: Vec::new(),
             sums: StepSums::default(),
             budget: EnergyBudget::default(),
@@ -146,6 +151,8 @@ impl FastDem {
         // the particles are in a new order: their near triangles are found again
         self.near.clear();
         self.near.resize(n * self.wall_meshes.meshes.len(), NearTriangles::default());
+        self.at_wall.clear();
+        self.at_wall.resize(n, false);
         let records = &particles.contacts;
         for (k, side) in self.wall_sides.iter_mut().enumerate() {
             let id = self.arrays.id[k];
@@ -158,7 +165,8 @@ impl FastDem {
     /// The contact history in the state's form: sorted by (particle, partner), a wall's
     /// records in the order they were found.
     fn store_history(&mut self, particles: &mut ParticleState) {
-        let pairs = self.list.slots.iter().filter_map(|s| s.record.clone());
+        self.list.sync_records(&self.arrays);
+        let pairs = self.list.records.iter().filter_map(|r| r.clone());
         let walls = self.wall_sides.iter().flat_map(|s| s.history.iter().cloned());
         let mut records: Vec<ContactRecord> = pairs.chain(walls).collect();
         records.sort_by(|x, y| (x.particle, x.partner).cmp(&(y.particle, y.partner)));
@@ -208,11 +216,12 @@ impl FastDem {
             });
         } else {
             let near = self.near.par_chunks_mut(n_walls);
-            (&mut forces, &mut torques, &mut counts, &mut self.wall_sides, near).into_par_iter().enumerate().with_min_len(256).for_each(
-                |(k, (f, t, c, side, near))| {
+            (&mut forces, &mut torques, &mut counts, (&mut self.wall_sides, &mut self.at_wall), near).into_par_iter().enumerate().with_min_len(256).for_each(
+                |(k, (f, t, c, (side, at_wall), near))| {
                     let (mut force, mut torque, pairs) = gather(list, k);
                     evaluate_walls(k, arrays, &wall_context, near, side, &mut force, &mut torque);
                     (*f, *t, *c) = (force, torque, pairs + side.contacts);
+                    *at_wall = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
                 },
             );
         }
@@ -222,17 +231,19 @@ impl FastDem {
         // make their first contacts, at every sub-step
         let mut totals = ContactTotals::default();
         if totals_needed {
-            for (s, _) in self.list.slots.iter().zip(&self.list.forces).filter(|(_, f)| f.touching) {
+            let list = &self.list;
+            for ((pair, e), _) in list.pairs.iter().zip(&list.energy).zip(&list.forces).filter(|(_, f)| f.touching) {
                 totals.contacts += 1;
-                totals.max_overlap_ratio = totals.max_overlap_ratio.max(s.overlap / self.arrays.radius[s.a as usize]);
-                totals.elastic += s.elastic;
-                totals.placed += s.placed;
+                totals.max_overlap_ratio = totals.max_overlap_ratio.max(e.overlap / self.arrays.radius[pair.a as usize]);
+                totals.elastic += e.elastic;
+                totals.placed += e.placed;
             }
         }
         let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
         let mut wall_fault: Option<(u64, Fault)> = None;
         let first_impact = impacts.len();
-        for (k, side) in self.wall_sides.iter().enumerate() {
+        // a side without contact, impact or fault adds zeros (exactly: the sums keep their bits)
+        for (k, side) in self.wall_sides.iter().enumerate().filter(|&(k, _)| self.at_wall[k]) {
             totals.contacts += side.contacts as usize;
             totals.max_overlap_ratio = totals.max_overlap_ratio.max(side.max_overlap_ratio);
             totals.elastic += side.elastic;
@@ -289,6 +300,8 @@ impl ParticlePhase for FastDem {
         self.take(particles);
         let mut totals = ContactTotals::default();
         let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
+        // without any fluid sample (a DEM-only run) the sub-steps need not look each one up
+        let fluid = if fluid.iter().all(Option::is_none) { &[] } else { fluid };
         let mut impacts = std::mem::take(&mut particles.impacts);
         let logged_before = impacts.len();
         for k in 0..n {

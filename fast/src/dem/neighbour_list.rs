@@ -1,11 +1,13 @@
 //! The pairs that may touch: a half neighbour list with a skin, found over a sorted cell
-//! list, with each pair's contact history kept in its slot (a flat table, no map lookups in
-//! the sub-steps).
+//! list, with each pair's contact history kept beside it (flat tables, no map lookups in the
+//! sub-steps).
 //!
 //! A pair is listed when its gap is below the skin at the build; it is rebuilt once some
 //! particle has moved more than half the skin, so no pair can come into contact unlisted.
 //! Cells are as wide as the largest diameter plus the skin, so listed pairs lie in the same or
 //! an adjacent cell whatever the size distribution.
+
+use std::collections::HashMap;
 
 use rayon::prelude::*;
 
@@ -16,24 +18,36 @@ use spillage_model::particles::{ContactRecord, Partner};
 
 use super::arrays::{Grid, ParticleArrays};
 
-/// One listed pair and what its last evaluation found besides the forces. `a` has the smaller
-/// id (the side the history is kept on, as in the reference).
-#[derive(Clone, Debug)]
-pub struct PairSlot {
+/// One listed pair: `a` has the smaller id (the side the history is kept on, as in the
+/// reference); `constants` indexes [`NeighbourList::constants`].
+#[derive(Clone, Copy, Debug)]
+pub struct Pair {
     pub a: u32,
     pub b: u32,
-    pub constants: PairConstants,
-    /// The contact's history; `Some` while the pair touches.
-    pub record: Option<ContactRecord>,
-    pub overlap: f64,
-    /// Stored elastic energy, and the part of a first touch of a fed particle [J].
-    pub elastic: f64,
-    pub placed: f64,
-    /// The evaluation found a fault ([`spillage_model::particles::guards::pair_fault`]).
-    pub fault: bool,
+    pub constants: u32,
 }
 
-/// The forces of a slot's last evaluation, apart from the rest so the per-particle sums read
+/// The part of a pair's contact history every sub-step reads and updates, kept apart from the
+/// rest of its [`ContactRecord`] so the sub-steps stream 40 bytes per pair, not the record's
+/// hundred (the pair loop is bound by memory traffic).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Touch {
+    /// The pair touches (it has a contact record).
+    pub active: bool,
+    pub tangential_overlap: Vec3,
+    pub damping_ratio: f64,
+}
+
+/// What the energy guard reads of a touching pair's last evaluation, measured only when asked
+/// for: overlap [m], stored elastic energy, and the part of a fed particle's first touch [J].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PairEnergy {
+    pub overlap: f64,
+    pub elastic: f64,
+    pub placed: f64,
+}
+
+/// The forces of a pair's last evaluation, apart from the rest so the per-particle sums read
 /// little memory: force on a (b's is `−force`), torques on a and b.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PairForce {
@@ -52,26 +66,42 @@ pub enum History<'a> {
     Previous,
 }
 
+/// The listed pairs, one entry per pair in each of the parallel arrays `pairs`, `touch`,
+/// `records`, `energy` and `forces`.
 #[derive(Default)]
 pub struct NeighbourList {
     /// Gap below which a pair is listed [m].
     pub skin: f64,
-    pub slots: Vec<PairSlot>,
-    /// The forces of each slot (same index).
+    pub pairs: Vec<Pair>,
+    /// The distinct material constants of the listed pairs (one entry for a monodisperse bed).
+    pub constants: Vec<PairConstants>,
+    pub touch: Vec<Touch>,
+    /// Each touching pair's contact record; its tangential overlap and normal are brought up to
+    /// date from `touch` and the positions by [`NeighbourList::sync_records`].
+    pub records: Vec<Option<ContactRecord>>,
+    pub energy: Vec<PairEnergy>,
     pub forces: Vec<PairForce>,
-    /// Slots of the pairs whose lower internal index is k: `first[k]..first[k + 1]`.
+    /// Pairs whose lower internal index is k: `first[k]..first[k + 1]`.
     first: Vec<usize>,
-    /// Each particle's slots in ascending partner id (the reference's order of summation):
-    /// `(slot, particle is the pair's a)`.
+    /// Each particle's pairs in ascending partner id (the reference's order of summation):
+    /// `(pair, particle is the pair's a)`.
     pub adjacency: Vec<(u32, bool)>,
     pub adjacency_start: Vec<usize>,
     /// Positions at the last build.
     built_at: Vec<Vec3>,
-    previous_slots: Vec<PairSlot>,
+    previous_pairs: Vec<Pair>,
+    previous_touch: Vec<Touch>,
+    previous_records: Vec<Option<ContactRecord>>,
     previous_first: Vec<usize>,
     /// (cell key, internal index), sorted.
     sorted_cells: Vec<(u64, u32)>,
+    /// Found pairs (a, b, index in the previous list or the state's records) of the last build.
+    found: Vec<(u32, u32, Option<usize>)>,
 }
+
+/// The key the constants of a pair depend on ([`MaterialTable::constants`]): both materials,
+/// radii and masses, exactly.
+type ConstantsKey = (usize, usize, u64, u64, u64, u64);
 
 impl NeighbourList {
     /// Positions at the last build (the drift measures the displacement since).
@@ -87,6 +117,25 @@ impl NeighbourList {
         self.built_at.len() != arrays.len() || !(max_displacement_sq <= half * half)
     }
 
+    /// The unit normal from a to b at the current positions, as the pair evaluation computes it.
+    #[inline]
+    pub fn normal(arrays: &ParticleArrays, pair: &Pair) -> Vec3 {
+        let offset = arrays.position[pair.b as usize] - arrays.position[pair.a as usize];
+        offset / offset.norm()
+    }
+
+    /// Brings each touching pair's record up to date: its tangential overlap from `touch`, its
+    /// normal from the positions of the last evaluation (call after a sub-step's second half,
+    /// which moves no particle).
+    pub fn sync_records(&mut self, arrays: &ParticleArrays) {
+        for ((record, touch), pair) in self.records.iter_mut().zip(&self.touch).zip(&self.pairs) {
+            if let Some(record) = record {
+                record.tangential_overlap = touch.tangential_overlap;
+                record.normal = Self::normal(arrays, pair);
+            }
+        }
+    }
+
     /// Lists every pair with a gap below the skin at the current positions.
     pub fn build(&mut self, arrays: &ParticleArrays, materials: &MaterialTable, history: History) {
         let n = arrays.len();
@@ -96,50 +145,92 @@ impl NeighbourList {
         self.sorted_cells.extend(arrays.position.iter().enumerate().map(|(k, p)| (grid.key(grid.cell_of(*p)), k as u32)));
         self.sorted_cells.sort_unstable();
 
-        std::mem::swap(&mut self.slots, &mut self.previous_slots);
+        std::mem::swap(&mut self.pairs, &mut self.previous_pairs);
+        std::mem::swap(&mut self.touch, &mut self.previous_touch);
+        std::mem::swap(&mut self.records, &mut self.previous_records);
         std::mem::swap(&mut self.first, &mut self.previous_first);
         let (cells, skin) = (&self.sorted_cells, self.skin);
-        let (previous_slots, previous_first) = (&self.previous_slots, &self.previous_first);
-        self.slots.clear();
-        self.slots.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
+        let (previous_pairs, previous_first) = (&self.previous_pairs, &self.previous_first);
+        self.found.clear();
+        self.found.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
             let mut found = Vec::new();
             for_each_partner(&grid, cells, arrays, skin, k, |j| found.push(j));
             found.into_iter().map(move |j| {
                 let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
-                let record = match history {
+                let source = match history {
                     History::Records(records) => {
                         let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
-                        records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok().map(|i| records[i].clone())
+                        records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok()
                     }
-                    History::Previous if previous_first.len() == n + 1 => previous_slots[previous_first[k]..previous_first[k + 1]]
-                        .iter()
-                        .find(|s| s.a as usize == a && s.b as usize == b)
-                        .and_then(|s| s.record.clone()),
+                    History::Previous if previous_first.len() == n + 1 => {
+                        (previous_first[k]..previous_first[k + 1]).find(|&i| previous_pairs[i].a as usize == a && previous_pairs[i].b as usize == b)
+                    }
                     History::Previous => None,
                 };
-                PairSlot {
-                    a: a as u32,
-                    b: b as u32,
-                    constants: materials.constants(arrays.material[a], arrays.material[b], arrays.radius[a], arrays.radius[b], arrays.mass[a], arrays.mass[b]),
-                    record,
-                    overlap: 0.0,
-                    elastic: 0.0,
-                    placed: 0.0,
-                    fault: false,
-                }
+                (a as u32, b as u32, source)
             })
         }));
-        // the slots come grouped by their lower internal index k (the search's order)
+
+        // each pair's history, and its constants interned (a bed of one size has one entry)
+        self.pairs.clear();
+        self.touch.clear();
+        self.records.clear();
+        self.constants.clear();
+        let mut interned: HashMap<ConstantsKey, u32> = HashMap::new();
+        let mut last: Option<(ConstantsKey, u32)> = None;
+        for &(a, b, source) in &self.found {
+            let (i, j) = (a as usize, b as usize);
+            let key = (
+                arrays.material[i],
+                arrays.material[j],
+                arrays.radius[i].to_bits(),
+                arrays.radius[j].to_bits(),
+                arrays.mass[i].to_bits(),
+                arrays.mass[j].to_bits(),
+            );
+            let constants = match last {
+                Some((k, c)) if k == key => c,
+                _ => {
+                    let c = *interned.entry(key).or_insert_with(|| {
+                        self.constants.push(materials.constants(
+                            arrays.material[i],
+                            arrays.material[j],
+                            arrays.radius[i],
+                            arrays.radius[j],
+                            arrays.mass[i],
+                            arrays.mass[j],
+                        ));
+                        (self.constants.len() - 1) as u32
+                    });
+                    last = Some((key, c));
+                    c
+                }
+            };
+            self.pairs.push(Pair { a, b, constants });
+            let (record, touch) = match (history, source) {
+                (History::Records(records), Some(r)) => {
+                    let r = &records[r];
+                    (Some(r.clone()), Touch { active: true, tangential_overlap: r.tangential_overlap, damping_ratio: r.damping_ratio })
+                }
+                (History::Previous, Some(p)) => (self.previous_records[p].clone(), self.previous_touch[p]),
+                _ => (None, Touch::default()),
+            };
+            self.records.push(record);
+            self.touch.push(touch);
+        }
+        // the pairs come grouped by their lower internal index k (the search's order)
         self.first.clear();
         self.first.resize(n + 1, 0);
-        for slot in &self.slots {
-            self.first[slot.a.min(slot.b) as usize + 1] += 1;
+        for pair in &self.pairs {
+            self.first[pair.a.min(pair.b) as usize + 1] += 1;
         }
         for k in 0..n {
             self.first[k + 1] += self.first[k];
         }
         self.forces.clear();
-        self.forces.resize(self.slots.len(), PairForce::default());
+        self.forces.resize(self.pairs.len(), PairForce::default());
+        self.energy.clear();
+        self.energy.resize(self.pairs.len(), PairEnergy::default());
         self.build_adjacency(arrays);
         self.built_at.clear();
         self.built_at.extend_from_slice(&arrays.position);
@@ -149,7 +240,7 @@ impl NeighbourList {
         let n = arrays.len();
         self.adjacency_start.clear();
         self.adjacency_start.resize(n + 1, 0);
-        for s in &self.slots {
+        for s in &self.pairs {
             self.adjacency_start[s.a as usize + 1] += 1;
             self.adjacency_start[s.b as usize + 1] += 1;
         }
@@ -159,15 +250,15 @@ impl NeighbourList {
         self.adjacency.clear();
         self.adjacency.resize(self.adjacency_start[n], (0, false));
         let mut next = self.adjacency_start.clone();
-        for (i, s) in self.slots.iter().enumerate() {
+        for (i, s) in self.pairs.iter().enumerate() {
             for (k, is_a) in [(s.a as usize, true), (s.b as usize, false)] {
                 self.adjacency[next[k]] = (i as u32, is_a);
                 next[k] += 1;
             }
         }
-        let slots = &self.slots;
-        let partner = |&(slot, is_a): &(u32, bool)| {
-            let s = &slots[slot as usize];
+        let pairs = &self.pairs;
+        let partner = |&(pair, is_a): &(u32, bool)| {
+            let s = &pairs[pair as usize];
             arrays.id[if is_a { s.b } else { s.a } as usize]
         };
         for k in 0..n {
@@ -241,7 +332,7 @@ mod tests {
         arrays.load(&particles, 0.1 + skin);
         let mut list = NeighbourList { skin, ..Default::default() };
         list.build(&arrays, &rock(), History::Records(&[]));
-        let mut listed: Vec<(u64, u64)> = list.slots.iter().map(|s| (arrays.id[s.a as usize], arrays.id[s.b as usize])).collect();
+        let mut listed: Vec<(u64, u64)> = list.pairs.iter().map(|s| (arrays.id[s.a as usize], arrays.id[s.b as usize])).collect();
         assert!(listed.iter().all(|(a, b)| a < b));
         listed.sort_unstable();
         let mut brute = Vec::new();
@@ -257,7 +348,7 @@ mod tests {
         for k in 0..arrays.len() {
             let row = &list.adjacency[list.adjacency_start[k]..list.adjacency_start[k + 1]];
             let partners: Vec<u64> =
-                row.iter().map(|&(s, is_a)| arrays.id[if is_a { list.slots[s as usize].b } else { list.slots[s as usize].a } as usize]).collect();
+                row.iter().map(|&(s, is_a)| arrays.id[if is_a { list.pairs[s as usize].b } else { list.pairs[s as usize].a } as usize]).collect();
             assert!(partners.windows(2).all(|w| w[0] < w[1]), "particle {}: partners {partners:?}", arrays.id[k]);
         }
     }
@@ -279,7 +370,7 @@ mod tests {
         for (i, p) in finite.iter().enumerate() {
             brute += finite[i + 1..].iter().filter(|q| (q.position - p.position).norm() < p.radius() + q.radius() + 0.01).count();
         }
-        let listed = list.slots.iter().filter(|s| arrays.id[s.a as usize] >= 3 && arrays.id[s.b as usize] >= 3).count();
+        let listed = list.pairs.iter().filter(|s| arrays.id[s.a as usize] >= 3 && arrays.id[s.b as usize] >= 3).count();
         assert!(brute > 20);
         assert_eq!(listed, brute);
     }

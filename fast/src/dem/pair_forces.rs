@@ -1,18 +1,19 @@
 //! Particle–particle contacts of one sub-step (fluid-dem-model.md §7.8): every listed pair is
-//! evaluated in parallel into its own slot, then each particle sums its pairs in ascending
+//! evaluated in parallel into its own entries, then each particle sums its pairs in ascending
 //! partner id, the order in which the reference adds them, so both give the same bits and the
 //! result does not depend on the number of threads.
 
 use rayon::prelude::*;
 
-use spillage_model::closure::contact::hertz_mindlin_force;
+use spillage_model::closure::contact::{hertz_mindlin_force, PairConstants};
 use spillage_model::particles::first_touch::pair_record;
 use spillage_model::particles::guards::{pair_fault, Fault, MAX_OVERLAP_RATIO};
 use spillage_model::particles::materials::MaterialTable;
 use spillage_model::particles::state::Vec3;
+use spillage_model::particles::ContactRecord;
 
 use super::arrays::ParticleArrays;
-use super::neighbour_list::{NeighbourList, PairForce, PairSlot};
+use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -28,49 +29,68 @@ pub struct PairContext<'a> {
     pub energy: bool,
 }
 
-/// Evaluates every listed pair into its slot; true when some pair has a fault.
+/// Evaluates every listed pair into its entries; true when some pair has a fault (found by
+/// [`first_fault`]).
 pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) -> bool {
-    (&mut list.slots, &mut list.forces)
+    let constants = &list.constants;
+    (&list.pairs, &mut list.touch, &mut list.records, &mut list.energy, &mut list.forces)
         .into_par_iter()
         .with_min_len(512)
-        .map(|(slot, out)| {
-            evaluate(slot, out, arrays, context);
-            slot.fault
-        })
+        .map(|(pair, touch, record, energy, out)| evaluate(pair, &constants[pair.constants as usize], touch, record, energy, out, arrays, context))
         .reduce(|| false, |x, y| x || y)
 }
 
-fn evaluate(slot: &mut PairSlot, out: &mut PairForce, arrays: &ParticleArrays, context: &PairContext) {
-    let (a, b) = (slot.a as usize, slot.b as usize);
+/// One pair; returns whether it has a fault. The record (cold memory) is touched only when a
+/// contact begins or ends.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn evaluate(
+    pair: &Pair,
+    constants: &PairConstants,
+    touch: &mut Touch,
+    record: &mut Option<ContactRecord>,
+    energy: &mut PairEnergy,
+    out: &mut PairForce,
+    arrays: &ParticleArrays,
+    context: &PairContext,
+) -> bool {
+    let (a, b) = (pair.a as usize, pair.b as usize);
     let (ra, rb) = (arrays.radius[a], arrays.radius[b]);
     let offset = arrays.position[b] - arrays.position[a];
     let distance = offset.norm();
-    slot.fault = false;
     if !(distance < ra + rb) {
         out.touching = false;
-        slot.record = None;
-        return;
+        if touch.active {
+            touch.active = false;
+            *record = None;
+        }
+        return false;
     }
     let overlap = ra + rb - distance;
     let fed = arrays.id[a] >= context.fed_from || arrays.id[b] >= context.fed_from;
+    let mut fault = false;
     if distance == 0.0 || overlap > MAX_OVERLAP_RATIO * ra.min(rb) {
-        let fault = pair_fault(&arrays.particle(a), &arrays.particle(b), distance, overlap, fed);
-        slot.fault = fault.is_some();
-        if matches!(fault, Some(Fault::Coincident { .. })) {
+        let found = pair_fault(&arrays.particle(a), &arrays.particle(b), distance, overlap, fed);
+        fault = found.is_some();
+        if matches!(found, Some(Fault::Coincident { .. })) {
             out.touching = false;
-            slot.record = None;
-            return;
+            if touch.active {
+                touch.active = false;
+                *record = None;
+            }
+            return fault;
         }
     }
     let normal = offset / distance;
     // §7.8 step 2: relative velocity of the contact point.
     let v_rel = arrays.velocity[a] + arrays.spin[a].cross(&(ra * normal)) - (arrays.velocity[b] + arrays.spin[b].cross(&(-rb * normal)));
-    let new_contact = slot.record.is_none();
-    let record = slot
-        .record
-        .get_or_insert_with(|| pair_record(context.materials, context.wet_fluid, &arrays.particle(a), &arrays.particle(b), normal, v_rel, context.time));
-    let force = hertz_mindlin_force(&slot.constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
-    record.normal = normal;
+    let new_contact = !touch.active;
+    if new_contact {
+        let first = pair_record(context.materials, context.wet_fluid, &arrays.particle(a), &arrays.particle(b), normal, v_rel, context.time);
+        *touch = Touch { active: true, tangential_overlap: first.tangential_overlap, damping_ratio: first.damping_ratio };
+        *record = Some(first);
+    }
+    let force = hertz_mindlin_force(constants, touch.damping_ratio, normal, overlap, v_rel, &mut touch.tangential_overlap, context.dt);
     // §7.8 steps 6–7.
     *out = PairForce {
         touching: true,
@@ -78,11 +98,12 @@ fn evaluate(slot: &mut PairSlot, out: &mut PairForce, arrays: &ParticleArrays, c
         torque_a: (ra * normal).cross(&force.tangential),
         torque_b: (-rb * normal).cross(&(-force.tangential)),
     };
-    slot.overlap = overlap;
     if context.energy {
-        slot.elastic = 0.4 * force.normal.norm() * overlap;
-        slot.placed = if new_contact && fed { slot.elastic } else { 0.0 };
+        energy.overlap = overlap;
+        energy.elastic = 0.4 * force.normal.norm() * overlap;
+        energy.placed = if new_contact && fed { energy.elastic } else { 0.0 };
     }
+    fault
 }
 
 /// Particle `k`'s sum over its touching pairs: (force, torque, count).
@@ -106,10 +127,21 @@ pub fn gather(list: &NeighbourList, k: usize) -> (Vec3, Vec3, u32) {
     (force, torque, count)
 }
 
-/// The first pair fault in the reference's order (ascending ids of a, then b).
+/// The first pair fault in the reference's order (ascending ids of a, then b), found again at
+/// the positions the pairs were evaluated at (faults are rare: they are not stored).
 pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64) -> Option<Fault> {
-    let slot = list.slots.iter().filter(|s| s.fault).min_by_key(|s| (arrays.id[s.a as usize], arrays.id[s.b as usize]))?;
-    let (a, b) = (arrays.particle(slot.a as usize), arrays.particle(slot.b as usize));
-    let distance = (b.position - a.position).norm();
-    pair_fault(&a, &b, distance, a.radius() + b.radius() - distance, a.id >= fed_from || b.id >= fed_from)
+    list.pairs
+        .iter()
+        .filter_map(|pair| {
+            let (a, b) = (arrays.particle(pair.a as usize), arrays.particle(pair.b as usize));
+            let distance = (b.position - a.position).norm();
+            let overlap = a.radius() + b.radius() - distance;
+            if !(distance < a.radius() + b.radius()) || !(distance == 0.0 || overlap > MAX_OVERLAP_RATIO * a.radius().min(b.radius())) {
+                return None;
+            }
+            let fault = pair_fault(&a, &b, distance, overlap, a.id >= fed_from || b.id >= fed_from)?;
+            Some(((a.id, b.id), fault))
+        })
+        .min_by_key(|(ids, _)| *ids)
+        .map(|(_, fault)| fault)
 }
