@@ -99,7 +99,10 @@ fn fine_ratio() {
         let mut state = State::default();
         let fluid = FastFluid::new(&case, mesh(), &mut state).expect("fast fluid");
         let dem = FastDem::new(&case, &mut state).expect("fast DEM");
-        let mut run = Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run").with_stencil_builder(spillage_fast::coupling::stencils_in_parallel);
+        let mut run = Coupled::new(&case, state, Some(fluid), Some(dem))
+            .expect("run")
+            .with_stencil_builder(spillage_fast::coupling::stencils_in_parallel)
+            .with_smoother(spillage_fast::coupling::smooth_in_parallel);
         seconds_per_step(&mut run, 6)
     });
     println!("P3 fine (9 840 cells, 1 683 particles): reference {r:.3} s per step, fast on 2 threads {f:.4} s: ratio {:.1}", r / f);
