@@ -25,7 +25,7 @@ use spillage_model::step::{Coupled, FluidPhase};
 /// relative 2-norm) or 1e-14 (fast, normalised 1-norm) of the right-hand side; the matrix is the
 /// mass matrix plus a Laplacian (smallest eigenvalue the cell volume), so each answer is within
 /// ~1e-13 of the field's size of the exact one, and the folded-back residuals are smaller
-/// still. Measured: 0.8–4.6e-13 (the largest on P3's cloud, in the sampled α_c); 1e-12 is two
+/// still. Measured: 0.8–2.9e-13 (the largest on P3's cloud); 1e-12 is two
 /// such errors with room, and two orders inside the 1e-10 for whole states.
 const MAPPING_TOLERANCE: f64 = 1e-12;
 
