@@ -83,33 +83,93 @@ fn ratio() {
     let _ = std::fs::write(dir.join("coupled_step.json"), json);
 }
 
-/// P3 at fine resolution (`cases/bench/hindered_settling_fine.toml`: 9 840 cells, 1 683
-/// particles at α_p = 0.308): the whole fast solver (fluid and DEM) on 2 threads against the
-/// whole reference solver (issue 19 asks for ≥ 30×).
-fn fine_ratio() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench/hindered_settling_fine.toml");
-    let case = Case::load(&path).expect("case");
-    let mesh = || spillage::verify::fluid::build_mesh(&case).expect("mesh");
+/// Seconds per step of `case`: the whole reference solver, and the whole fast solver (fluid,
+/// DEM, parallel stencils and smoothing) on 2 threads.
+fn fine_times(case: &Case) -> (f64, f64) {
+    let mesh = || spillage::verify::fluid::build_mesh(case).expect("mesh");
     let mut state = State::default();
-    let fluid = ReferenceFluid::new(&case, mesh(), &mut state).expect("reference fluid");
-    let dem = ReferenceDem::new(&case, &mut state).expect("reference DEM");
-    let r = seconds_per_step(&mut Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run"), 3);
+    let fluid = ReferenceFluid::new(case, mesh(), &mut state).expect("reference fluid");
+    let dem = ReferenceDem::new(case, &mut state).expect("reference DEM");
+    let r = seconds_per_step(&mut Coupled::new(case, state, Some(fluid), Some(dem)).expect("run"), 3);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
     let f = pool.install(|| {
         let mut state = State::default();
-        let fluid = FastFluid::new(&case, mesh(), &mut state).expect("fast fluid");
-        let dem = FastDem::new(&case, &mut state).expect("fast DEM");
-        let mut run = Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run").with_stencil_builder(spillage_fast::coupling::stencils_in_parallel);
+        let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
+        let dem = FastDem::new(case, &mut state).expect("fast DEM");
+        let mut run = Coupled::new(case, state, Some(fluid), Some(dem))
+            .expect("run")
+            .with_stencil_builder(spillage_fast::coupling::stencils_in_parallel)
+            .with_smoother(spillage_fast::coupling::smooth_in_parallel);
         seconds_per_step(&mut run, 6)
     });
-    println!("P3 fine (9 840 cells, 1 683 particles): reference {r:.3} s per step, fast on 2 threads {f:.4} s: ratio {:.1}", r / f);
+    (r, f)
+}
+
+/// The mapping alone on `case`'s initial state (one sample and one deposit, as a coupled step
+/// does): the reference's (stencils in order, `Diffusion::smooth`) and the fast one on 2 threads.
+fn fine_mapping_times(case: &Case) -> (f64, f64) {
+    let mut state = State::default();
+    let fluid = FastFluid::new(case, spillage::verify::fluid::build_mesh(case).expect("mesh"), &mut state).expect("fast fluid");
+    let dem = FastDem::new(case, &mut state).expect("fast DEM");
+    let run = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run");
+    let (phase, particles) = (run.fluid_phase().expect("fluid"), &run.state().particles.as_ref().expect("particles").particles);
+    let fluid_state = run.state().fluid.as_ref().expect("fluid state");
+    let load = spillage_model::step::ParticleLoad {
+        volume: particles.iter().map(|p| p.volume()).collect(),
+        implicit_drag: particles.iter().map(|p| 1e-3 * p.diameter).collect(),
+        explicit_force: particles.iter().map(|p| [0.0, -p.volume() * 1e4, 0.0]).collect(),
+        ..spillage_model::step::ParticleLoad::zeros(particles.len())
+    };
+    let section = case.coupling.as_ref().expect("[coupling]");
+    let reference = spillage_model::coupling::ParticleMeshMap::new(section);
+    let mut fast = reference.clone();
+    fast.stencil_builder = spillage_fast::coupling::stencils_in_parallel;
+    fast.smoother = spillage_fast::coupling::smooth_in_parallel;
+    let time = |map: &spillage_model::coupling::ParticleMeshMap| {
+        let (mut seen, mut cells) = (Vec::new(), spillage_model::coupling::CellLoad::default());
+        let reps = 5;
+        let t = Instant::now();
+        for _ in 0..reps {
+            seen.clear();
+            map.sample(&phase.sample_source(fluid_state), particles, &mut seen);
+            map.deposit(phase.mesh(), particles, &load, &mut cells);
+        }
+        t.elapsed().as_secs_f64() / reps as f64
+    };
+    let r = time(&reference);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+    let f = pool.install(|| time(&fast));
+    (r, f)
+}
+
+/// P3 at fine resolution (`cases/bench/hindered_settling_fine.toml`: 9 840 cells, 1 683
+/// particles at α_p = 0.308): the whole fast solver (fluid and DEM) on 2 threads against the
+/// whole reference solver (issue 19 asks for ≥ 30×), with the case's kernel mapping (γ = 1)
+/// and with the diffusion mapping (γ = 3, P3's `--full` variant); and the mapping alone.
+fn fine_ratio() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench/hindered_settling_fine.toml");
+    let case = Case::load(&path).expect("case");
+    let mut diffusion = case.clone();
+    let coupling = diffusion.coupling.as_mut().expect("[coupling]");
+    coupling.method = spillage_model::coupling::MappingMethod::Diffusion;
+    coupling.distance_factor = 3.0;
+    let mut json = Vec::new();
+    for (label, case) in [("kernel γ = 1", &case), ("diffusion γ = 3", &diffusion)] {
+        let (mr, mf) = fine_mapping_times(case);
+        let (r, f) = fine_times(case);
+        println!(
+            "P3 fine (9 840 cells, 1 683 particles), {label}: reference {r:.3} s per step, fast on 2 threads {f:.4} s: ratio {:.1}; the mapping alone (sample + deposit): reference {mr:.4} s, fast {mf:.4} s: ratio {:.1}",
+            r / f,
+            mr / mf
+        );
+        json.push(format!(
+            "{{\"mapping\": \"{label}\", \"reference_seconds_per_step\": {r}, \"fast_2_threads_seconds_per_step\": {f}, \"ratio\": {}, \"mapping_reference_seconds\": {mr}, \"mapping_fast_2_threads_seconds\": {mf}}}",
+            r / f
+        ));
+    }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
     let _ = std::fs::create_dir_all(&dir);
-    let json = format!(
-        "{{\"case\": \"hindered_settling_fine\", \"reference_seconds_per_step\": {r}, \"fast_2_threads_seconds_per_step\": {f}, \"ratio\": {}}}\n",
-        r / f
-    );
-    let _ = std::fs::write(dir.join("coupled_step_fine.json"), json);
+    let _ = std::fs::write(dir.join("coupled_step_fine.json"), format!("{{\"case\": \"hindered_settling_fine\", \"runs\": [{}]}}\n", json.join(", ")));
 }
 
 fn bench(c: &mut Criterion) {

@@ -78,7 +78,7 @@ fn run_with(case: &Case, path: Path) -> Result<Box<dyn Solver>> {
     let run = Coupled::new(case, state, fluid, Some(dem))?;
     let run = match path {
         Path::Reference => run,
-        Path::Fast => run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel),
+        Path::Fast => run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel).with_smoother(spillage_fast::coupling::smooth_in_parallel),
     };
     Ok(match wear {
         Some(wear) => Box::new(run.with_wear(wear)?),
@@ -89,6 +89,11 @@ fn run_with(case: &Case, path: Path) -> Result<Box<dyn Solver>> {
 /// The fast particle path's run of `case` (fast fluid, DEM and wear), for the thread-count check.
 pub fn fast_run(case: &Case) -> Result<Box<dyn Solver>> {
     run_with(case, Path::Fast)
+}
+
+/// The reference particle path's run of `case` (the fast fluid, the reference DEM, wear and mapping).
+pub fn reference_run(case: &Case) -> Result<Box<dyn Solver>> {
+    run_with(case, Path::Reference)
 }
 
 /// Runs `case` with both particle phases until both have taken `min_substeps` DEM sub-steps

@@ -38,26 +38,60 @@ const CORNERS: [[f64; 3]; 8] =
 /// Corner pairs of the four edges along each parametric direction.
 const EDGES: [[(usize, usize); 4]; 3] = [[(0, 1), (3, 2), (4, 5), (7, 6)], [(0, 3), (1, 2), (4, 7), (5, 6)], [(0, 4), (1, 5), (2, 6), (3, 7)]];
 
+/// The longest edge along each parametric direction, `None` for a direction through a 2-D
+/// mesh's thickness (`empty` = the normal of its front and back: nothing varies across it).
+fn longest_edges(corners: &[Vec3; 8], empty: Option<&Vec3>) -> [Option<f64>; 3] {
+    std::array::from_fn(|d| {
+        let (a, b) = EDGES[d][0];
+        let edge = corners[b] - corners[a];
+        if empty.is_some_and(|n| edge.dot(n).abs() > 0.5 * edge.norm() * n.norm()) {
+            return None;
+        }
+        Some(EDGES[d].iter().map(|&(a, b)| (corners[b] - corners[a]).norm()).fold(0.0, f64::max))
+    })
+}
+
+/// Sub-cells along a direction whose longest edge is `longest`, for a kernel of width `width`
+/// (`ceil` of its ratio to the lattice spacing, not clamped).
+#[inline]
+fn raw_count(longest: f64, width: f64) -> f64 {
+    // a cell exactly as wide as the spacing up to round-off takes one point
+    (longest / (LATTICE_SPACING * width) * (1.0 - 1e-9)).ceil()
+}
+
 /// Sub-cells per parametric direction for a kernel of width `width`: the longest edge along the
 /// direction over [`LATTICE_SPACING`] `width`, rounded up, between 1 and [`MAX_SUBDIVISIONS`]. A 2-D mesh (`empty`
 /// = the normal of its front and back) is not cut through its thickness: nothing varies across
 /// it, and its cells are read on the mid-plane as the thesis' centres are.
 pub fn subdivisions(corners: &[Vec3; 8], width: f64, empty: Option<&Vec3>) -> [usize; 3] {
+    let longest = longest_edges(corners, empty);
     std::array::from_fn(|d| {
-        let (a, b) = EDGES[d][0];
-        let edge = corners[b] - corners[a];
-        if empty.is_some_and(|n| edge.dot(n).abs() > 0.5 * edge.norm() * n.norm()) {
-            return 1;
-        }
-        let longest = EDGES[d].iter().map(|&(a, b)| (corners[b] - corners[a]).norm()).fold(0.0, f64::max);
-        // a cell exactly as wide as the spacing up to round-off takes one point
-        let n = (longest / (LATTICE_SPACING * width) * (1.0 - 1e-9)).ceil();
+        let Some(longest) = longest[d] else { return 1 };
+        let n = raw_count(longest, width);
         if n.is_finite() && n >= 1.0 {
             (n as usize).min(MAX_SUBDIVISIONS)
         } else {
             1
         }
     })
+}
+
+/// The longest edge of cell `c` over the directions [`subdivisions`] may cut (0 if none): what
+/// [`takes_one_point`] needs, computed once per cell instead of once per cell and particle.
+pub fn widest_span(mesh: &Mesh, c: usize, empty: Option<&Vec3>) -> f64 {
+    let corners: [Vec3; 8] = std::array::from_fn(|k| mesh.points[mesh.cell_points[c][k]]);
+    longest_edges(&corners, empty).iter().flatten().fold(0.0, |a, &b| a.max(b))
+}
+
+/// Whether a cell of [`widest_span`] `span` takes one point for a kernel of width `width`,
+/// without [`subdivisions`]: every cut direction's edge count is at most that of the widest
+/// (the count is monotone in the length, the same float operations on a larger number), so
+/// when it rounds up to 1 all do. A cheap test on the stencil's hot path: the same weights,
+/// bit for bit. (A non-finite count, which `subdivisions` also maps to 1, answers false: the
+/// caller then integrates, which is only slower.)
+#[inline]
+pub fn takes_one_point(span: f64, width: f64) -> bool {
+    raw_count(span, width) <= 1.0
 }
 
 /// The normal of a 2-D mesh's front and back (its `Empty` patches), `None` for a 3-D mesh.
@@ -143,6 +177,52 @@ mod tests {
         let (a, b) = integrate(&mesh, 123, 0.01, None, |x| (x.x, x.y * x.y));
         let (v, x) = (mesh.cell_volumes[123], mesh.cell_centres[123]);
         assert_eq!((a, b), (x.x * v, x.y * x.y * v));
+    }
+
+    /// The shortcut [`takes_one_point`] never claims one point for a cell that
+    /// [`subdivisions`] would cut: on 2-D box cells 36 mm thick (P3 fine's: the thickness is not
+    /// cut) and on the distorted hexahedra of a two-layer rotor–stator mesh, over widths from far below to far above the cells (and it does claim
+    /// it for the cells well inside the lattice spacing, or it would save nothing).
+    #[test]
+    fn the_one_point_shortcut_agrees_with_the_subdivisions() {
+        use crate::mesh::cylindrical::RotorStatorSpec;
+        let mut boxes = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.036), [41, 60, 1])).unwrap();
+        boxes.set_patch_kind("z_min", PatchKind::Empty).unwrap();
+        boxes.set_patch_kind("z_max", PatchKind::Empty).unwrap();
+        let spec = RotorStatorSpec {
+            r_inner: 0.05,
+            r_interface: 0.2,
+            r_outer: 0.4,
+            z_min: 0.0,
+            z_max: 0.02,
+            n_r_rotor: 15,
+            n_r_stator: 20,
+            n_theta_rotor: 126,
+            n_theta_stator: 137,
+            n_z: 2,
+            radial_grading_rotor: 1.0,
+            radial_grading_stator: 1.0,
+        };
+        let rings = Mesh::rotor_stator(&spec).unwrap();
+        let mut claimed = 0;
+        for mesh in [&boxes, &rings] {
+            let search = crate::coupling::cell_search::CellSearch::new(mesh, 0.03);
+            for width in [1e-4, 2e-3, 3.3e-3, 5e-3, 1e-2, 0.1] {
+                for c in 0..mesh.n_cells() {
+                    if takes_one_point(search.span(c), width) {
+                        claimed += 1;
+                        let corners: [Vec3; 8] = std::array::from_fn(|k| mesh.points[mesh.cell_points[c][k]]);
+                        for empty in [search.empty_normal()] {
+                            assert_eq!(subdivisions(&corners, width, empty.as_ref()), [1, 1, 1], "cell {c}, width {width}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(claimed > boxes.n_cells() + rings.n_cells(), "the shortcut took {claimed} cells");
+        // the 2-D boxes (4.9 × 5 mm, 36 mm thick) take it at σ = 5 mm: the thickness is not cut
+        let search = crate::coupling::cell_search::CellSearch::new(&boxes, 0.03);
+        assert!(search.empty_normal().is_some() && (0..boxes.n_cells()).all(|c| takes_one_point(search.span(c), 5e-3)));
     }
 
     /// A narrow Gaussian summed over a cell's sub-cells: its share of the cell is near the

@@ -1,70 +1,189 @@
-//! Which cells have their centre (or any part) within a radius of a point: a hashed bucket grid
+//! Which cells have their centre (or any part) within a radius of a point: a dense bucket grid
 //! of the cell centres at their current position (the rotor zone moves, so it is rebuilt every
 //! step).
+//!
+//! The grid spans the cell centres' bounding box in cubes of half the usual query radius, each
+//! bucket a slice of one array (counting sort by bucket): a query visits a few contiguous
+//! slices and no hash. Queries return cells in no particular order (every caller sorts or only
+//! marks), so the bucket size changes the speed, never a result.
 
-use std::collections::HashMap;
-
+use super::cell_quadrature;
 use crate::mesh::{Mesh, Vec3};
+
+/// Buckets per usual query radius: a query box of side 2r + 2·reach is then covered by
+/// buckets close to its own size, so few centres outside the radius are tested (on P3 fine,
+/// 5 mm cells and r = 3 cm: 2 per radius tests 1.5× the hits, 1 per radius 3×).
+const BUCKETS_PER_RADIUS: f64 = 2.0;
 
 /// Cell centres binned into cubes of side `bucket`.
 pub struct CellSearch {
     bucket: f64,
-    bins: HashMap<[i64; 3], Vec<usize>>,
+    /// Integer coordinates of the first bucket and the grid's size in buckets.
+    origin: [i64; 3],
+    dims: [i64; 3],
+    /// Bucket b holds `cells[start[b]..start[b + 1]]` (x fastest).
+    start: Vec<usize>,
+    cells: Vec<usize>,
     /// Per cell, the largest distance from its centre to a corner.
     reach: Vec<f64>,
     /// The largest of `reach`.
     largest_reach: f64,
+    /// Per cell, its [`cell_quadrature::widest_span`] for the mesh's own 2-D normal.
+    span: Vec<f64>,
+    empty_normal: Option<Vec3>,
 }
 
 impl CellSearch {
-    /// Bins every cell centre of `mesh`; `bucket` is best set to the usual query radius.
-    pub fn new(mesh: &Mesh, bucket: f64) -> Self {
-        let bucket = if bucket.is_finite() && bucket > 0.0 { bucket } else { 1.0 };
-        let mut bins: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-        for (c, x) in mesh.cell_centres.iter().enumerate() {
-            bins.entry(Self::key(bucket, x)).or_default().push(c);
+    /// Bins every cell centre of `mesh`; `radius` is the usual query radius.
+    pub fn new(mesh: &Mesh, radius: f64) -> Self {
+        let n = mesh.n_cells();
+        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for x in &mesh.cell_centres {
+            lo = lo.inf(x);
+            hi = hi.sup(x);
+        }
+        let extent = if n > 0 { hi - lo } else { Vec3::zeros() };
+        let mut bucket = if radius.is_finite() && radius > 0.0 { radius / BUCKETS_PER_RADIUS } else { extent.max().max(1.0) };
+        // at most ~4 buckets per cell (a radius far below the cells' size would make a huge
+        // grid of empty buckets): widen the buckets until the grid is that small
+        let cap = 4.0 * n as f64 + 64.0;
+        let buckets = |b: f64| (0..3).map(|d| (extent[d] / b).floor() + 1.0).product::<f64>();
+        while buckets(bucket) > cap {
+            bucket *= 1.5;
+        }
+        let (origin, dims) = if n > 0 {
+            let a = Self::key(bucket, &lo);
+            let b = Self::key(bucket, &hi);
+            (a, [b[0] - a[0] + 1, b[1] - a[1] + 1, b[2] - a[2] + 1])
+        } else {
+            ([0; 3], [0; 3])
+        };
+        let n_buckets = (dims[0] * dims[1] * dims[2]) as usize;
+        let index = |key: [i64; 3]| ((key[0] - origin[0]) + dims[0] * ((key[1] - origin[1]) + dims[1] * (key[2] - origin[2]))) as usize;
+        let bucket_of: Vec<usize> = mesh.cell_centres.iter().map(|x| index(Self::key(bucket, x))).collect();
+        let mut start = vec![0usize; n_buckets + 1];
+        for &b in &bucket_of {
+            start[b + 1] += 1;
+        }
+        for b in 0..n_buckets {
+            start[b + 1] += start[b];
+        }
+        let mut fill = start.clone();
+        let mut cells = vec![0; n];
+        for (c, &b) in bucket_of.iter().enumerate() {
+            cells[fill[b]] = c;
+            fill[b] += 1;
         }
         let reach: Vec<f64> =
             mesh.cell_points.iter().zip(&mesh.cell_centres).map(|(ids, x)| ids.iter().map(|&p| (mesh.points[p] - x).norm()).fold(0.0, f64::max)).collect();
         let largest_reach = reach.iter().copied().fold(0.0, f64::max);
-        Self { bucket, bins, reach, largest_reach }
+        let empty_normal = cell_quadrature::empty_normal(mesh);
+        let span = (0..n).map(|c| cell_quadrature::widest_span(mesh, c, empty_normal.as_ref())).collect();
+        Self { bucket, origin, dims, start, cells, reach, largest_reach, span, empty_normal }
     }
 
     fn key(bucket: f64, x: &Vec3) -> [i64; 3] {
         [(x.x / bucket).floor() as i64, (x.y / bucket).floor() as i64, (x.z / bucket).floor() as i64]
     }
 
-    /// Appends to `out` every cell whose centre lies within `radius` of `point` (in no
-    /// particular order: callers sort).
-    pub fn within(&self, mesh: &Mesh, point: &Vec3, radius: f64, out: &mut Vec<usize>) {
+    /// The largest distance from the centre of cell `c` to one of its corners.
+    pub fn reach(&self, c: usize) -> f64 {
+        self.reach[c]
+    }
+
+    /// The longest edge of cell `c` that a kernel quadrature may cut
+    /// ([`cell_quadrature::widest_span`] for [`Self::empty_normal`]).
+    pub fn span(&self, c: usize) -> f64 {
+        self.span[c]
+    }
+
+    /// The normal of the mesh's 2-D front and back the spans were taken with.
+    pub fn empty_normal(&self) -> Option<Vec3> {
+        self.empty_normal
+    }
+
+    /// Calls `visit` with every cell whose bucket meets the box of half-width `radius` about
+    /// `point` (a superset of the cells within `radius`).
+    #[inline]
+    fn candidates(&self, point: &Vec3, radius: f64, mut visit: impl FnMut(usize)) {
         let lo = Self::key(self.bucket, &(point - Vec3::repeat(radius)));
         let hi = Self::key(self.bucket, &(point + Vec3::repeat(radius)));
-        let r2 = radius * radius;
-        for i in lo[0]..=hi[0] {
-            for j in lo[1]..=hi[1] {
-                for k in lo[2]..=hi[2] {
-                    if let Some(cells) = self.bins.get(&[i, j, k]) {
-                        out.extend(cells.iter().copied().filter(|&c| (mesh.cell_centres[c] - point).norm_squared() <= r2));
-                    }
+        let range = |d: usize| (lo[d].max(self.origin[d]), hi[d].min(self.origin[d] + self.dims[d] - 1));
+        let ((i0, i1), (j0, j1), (k0, k1)) = (range(0), range(1), range(2));
+        for k in k0..=k1 {
+            for j in j0..=j1 {
+                if i0 > i1 {
+                    continue;
+                }
+                // the buckets i0..=i1 of row (j, k) are contiguous
+                let row = self.dims[0] * ((j - self.origin[1]) + self.dims[1] * (k - self.origin[2]));
+                let (a, b) = ((row + i0 - self.origin[0]) as usize, (row + i1 - self.origin[0]) as usize);
+                for &c in &self.cells[self.start[a]..self.start[b + 1]] {
+                    visit(c);
                 }
             }
         }
     }
 
+    /// Appends to `out` every cell whose centre lies within `radius` of `point` (in no
+    /// particular order: callers sort).
+    pub fn within(&self, mesh: &Mesh, point: &Vec3, radius: f64, out: &mut Vec<usize>) {
+        let r2 = radius * radius;
+        self.candidates(point, radius, |c| {
+            if (mesh.cell_centres[c] - point).norm_squared() <= r2 {
+                out.push(c);
+            }
+        });
+    }
+
     /// Appends to `out` every cell that may have a part within `radius` of `point`: its centre
     /// lies within `radius` plus its reach (centre to farthest corner). Unsorted.
     pub fn reaching(&self, mesh: &Mesh, point: &Vec3, radius: f64, out: &mut Vec<usize>) {
-        let start = out.len();
-        self.within(mesh, point, radius + self.largest_reach, out);
-        let mut kept = start;
-        for i in start..out.len() {
-            let c = out[i];
+        // the cells within radius + largest reach, then each held to its own reach (the two
+        // tests of the former within-then-filter, in one pass)
+        let outer = radius + self.largest_reach;
+        let outer2 = outer * outer;
+        self.candidates(point, outer, |c| {
+            let d2 = (mesh.cell_centres[c] - point).norm_squared();
             let r = radius + self.reach[c];
-            if (mesh.cell_centres[c] - point).norm_squared() <= r * r {
-                out[kept] = c;
-                kept += 1;
+            if d2 <= outer2 && d2 <= r * r {
+                out.push(c);
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::cartesian::BoxSpec;
+
+    /// Against brute force over every cell, for radii from below a cell to beyond the mesh, at
+    /// points inside, on the edge of and outside the mesh: the same sets.
+    #[test]
+    fn finds_the_same_cells_as_brute_force() {
+        let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.02), [20, 30, 2])).unwrap();
+        for bucket_radius in [0.001, 0.03, 10.0] {
+            let search = CellSearch::new(&mesh, bucket_radius);
+            for point in [Vec3::new(0.1, 0.15, 0.01), Vec3::new(0.0, 0.3, 0.0), Vec3::new(-0.05, 0.1, 0.01), Vec3::new(0.5, 0.5, 0.5)] {
+                for radius in [0.004, 0.03, 0.2, 1.0] {
+                    let mut found = Vec::new();
+                    search.within(&mesh, &point, radius, &mut found);
+                    found.sort_unstable();
+                    let exact: Vec<usize> = (0..mesh.n_cells()).filter(|&c| (mesh.cell_centres[c] - point).norm_squared() <= radius * radius).collect();
+                    assert_eq!(found, exact, "within {radius} of {point} (bucket radius {bucket_radius})");
+                    let mut reaching = Vec::new();
+                    search.reaching(&mesh, &point, radius, &mut reaching);
+                    reaching.sort_unstable();
+                    let exact: Vec<usize> = (0..mesh.n_cells())
+                        .filter(|&c| {
+                            let (d2, r) = ((mesh.cell_centres[c] - point).norm_squared(), radius + search.reach(c));
+                            d2 <= (radius + search.largest_reach).powi(2) && d2 <= r * r
+                        })
+                        .collect();
+                    assert_eq!(reaching, exact, "reaching {radius} of {point}");
+                }
             }
         }
-        out.truncate(kept);
     }
 }

@@ -29,7 +29,7 @@ pub struct Diffusion {
 
 /// Relative residual the conjugate gradients stop at (the residual is then folded back, so
 /// this sets the smoothness of the result, not its conservation).
-const TOLERANCE: f64 = 1e-13;
+pub const TOLERANCE: f64 = 1e-13;
 
 impl Diffusion {
     /// The operator for diffusion length² `spread` = T·D = (γ d_p)²/2 on `mesh`.
@@ -44,6 +44,22 @@ impl Diffusion {
             diagonal[neighbour[f]] += a;
         }
         Self { coefficient, owner, neighbour, volume: mesh.cell_volumes.clone(), diagonal }
+    }
+
+    /// The internal faces' owners, neighbours and coefficients T·D·|S_f|/|d_f| (for a solver
+    /// that assembles the same matrix its own way).
+    pub fn faces(&self) -> (&[usize], &[usize], &[f64]) {
+        (&self.owner, &self.neighbour, &self.coefficient)
+    }
+
+    /// The cell volumes V_j (the matrix's mass term and the fold-back's divisor).
+    pub fn volumes(&self) -> &[f64] {
+        &self.volume
+    }
+
+    /// The matrix diagonal V_j + Σ_f T·D·|S_f|/|d_f|.
+    pub fn diagonal(&self) -> &[f64] {
+        &self.diagonal
     }
 
     fn apply(&self, q: &[f64], out: &mut [f64]) {

@@ -102,11 +102,19 @@ pub fn stencil(geo: &KernelGeometry, x: &Vec3, diameter: f64, gamma: f64, host: 
         }
         (phi, psi)
     };
+    // the search's spans hold for this quadrature if they were taken with its 2-D normal
+    let spans_apply = geo.search.empty_normal() == geo.empty_normal;
     for &c in scratch.iter() {
         if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
             continue;
         }
-        let (phi, psi) = cell_quadrature::integrate(mesh, c, sigma, geo.empty_normal.as_ref(), &kernels);
+        let (phi, psi) = if spans_apply && cell_quadrature::takes_one_point(geo.search.span(c), sigma) {
+            // integrate's one-point rule without its edge lengths (the cell is narrower than the lattice)
+            let (phi, psi) = kernels(&mesh.cell_centres[c]);
+            (phi * mesh.cell_volumes[c], psi * mesh.cell_volumes[c])
+        } else {
+            cell_quadrature::integrate(mesh, c, sigma, geo.empty_normal.as_ref(), &kernels)
+        };
         if phi == 0.0 && psi == 0.0 {
             continue;
         }

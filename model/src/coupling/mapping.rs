@@ -87,6 +87,21 @@ pub struct ParticleMeshMap {
     pub min_fluid_fraction: f64,
     /// How the kernel stencils are built ([`stencils_in_order`] unless a solver sets its own).
     pub stencil_builder: StencilBuilder,
+    /// How the diffusion method smooths its fields ([`smooth_in_order`] unless a solver sets its own).
+    pub smoother: Smoother,
+}
+
+/// Smooths each of `fields` with one diffusion operator (one backward-Euler step,
+/// [`Diffusion::smooth`]), in place. The fields are independent: a solver may smooth them in
+/// any order or at once, and with its own linear solver, as long as it converges as tightly
+/// and folds its residual back (Σ V q kept to round-off).
+pub type Smoother = fn(diffusion: &Diffusion, fields: &mut [Vec<f64>]);
+
+/// The fields one after the other, each by [`Diffusion::smooth`].
+pub fn smooth_in_order(diffusion: &Diffusion, fields: &mut [Vec<f64>]) {
+    for field in fields {
+        diffusion.smooth(field);
+    }
 }
 
 /// Builds the kernel stencil of every particle (σ = γ d, in particle order). Each stencil is a
@@ -117,6 +132,7 @@ impl ParticleMeshMap {
             interface_mask: section.interface_mask,
             min_fluid_fraction: section.min_fluid_fraction,
             stencil_builder: stencils_in_order,
+            smoother: smooth_in_order,
         }
     }
 
@@ -232,19 +248,20 @@ impl ParticleMeshMap {
         volume.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
             let diffusion = self.diffusion(mesh, particles, SPHERE_WIDTH_FACTOR);
-            // C and F are diffused as densities (per volume) and integrated back
-            let mut densities = vec![std::mem::take(&mut drag)];
-            densities.extend(force.iter_mut().map(std::mem::take));
-            for field in densities.iter_mut() {
+            // α_p as it is; C and F are diffused as densities (per volume) and integrated back
+            let mut fields = vec![std::mem::take(&mut volume), std::mem::take(&mut drag)];
+            fields.extend(force.iter_mut().map(std::mem::take));
+            for field in fields[1..].iter_mut() {
                 field.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
             }
-            diffusion.smooth(&mut volume);
-            for field in densities.iter_mut() {
-                diffusion.smooth(field);
+            (self.smoother)(&diffusion, &mut fields);
+            for field in fields[1..].iter_mut() {
                 field.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q *= v);
             }
-            drag = densities.remove(0);
-            for (k, f) in densities.into_iter().enumerate() {
+            let mut fields = fields.into_iter();
+            volume = fields.next().expect("five fields");
+            drag = fields.next().expect("five fields");
+            for (k, f) in fields.enumerate() {
                 force[k] = f;
             }
         }
@@ -272,8 +289,10 @@ impl ParticleMeshMap {
         };
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
             let diffusion = self.diffusion(mesh, particles, 0.0);
-            for field in velocity.iter_mut().chain(acceleration.iter_mut()) {
-                diffusion.smooth(field);
+            let mut fields: Vec<Vec<f64>> = velocity.iter_mut().chain(acceleration.iter_mut()).map(std::mem::take).collect();
+            (self.smoother)(&diffusion, &mut fields);
+            for (field, smoothed) in velocity.iter_mut().chain(acceleration.iter_mut()).zip(fields) {
+                *field = smoothed;
             }
         }
         match self.method {

@@ -218,6 +218,16 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         self
     }
 
+    /// Smooths the diffusion method's fields with `smoother` (the fast solver's parallel one;
+    /// the reference's is [`crate::coupling::mapping::smooth_in_order`]). The α_c of a fresh
+    /// run's start was mapped by [`Coupled::new`] with the default.
+    pub fn with_smoother(mut self, smoother: crate::coupling::Smoother) -> Self {
+        if let Some(map) = self.mapping.as_mut() {
+            map.smoother = smoother;
+        }
+        self
+    }
+
     /// Adds the wear phase of a `[wear]` case (the state must hold the wear state it advances,
     /// which the phase's constructor sets up).
     pub fn with_wear(mut self, wear: Box<dyn WearPhase + Send>) -> Result<Self, SolverError> {

@@ -2,7 +2,12 @@
 //! stencils, built for all particles in parallel. Each stencil depends on its own particle and
 //! the mesh alone and the cells are summed afterwards in particle order
 //! ([`spillage_model::coupling::ParticleMeshMap`]), so the coupled fields have the reference's
-//! bits on any number of threads.
+//! bits on any number of threads. And the diffusion method's smoothing on the fast linear
+//! solvers ([`diffusion`]), within round-off of the reference's.
+
+pub mod diffusion;
+
+pub use diffusion::smooth_in_parallel;
 
 use rayon::prelude::*;
 
