@@ -96,10 +96,7 @@ fn fine_times(case: &Case) -> (f64, f64) {
         let mut state = State::default();
         let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
         let dem = FastDem::new(case, &mut state).expect("fast DEM");
-        let mut run = Coupled::new(case, state, Some(fluid), Some(dem))
-            .expect("run")
-            .with_stencil_builder(spillage_fast::coupling::stencils_in_parallel)
-            .with_smoother(spillage_fast::coupling::smooth_in_parallel);
+        let mut run = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
         seconds_per_step(&mut run, 6)
     });
     (r, f)
@@ -123,8 +120,7 @@ fn fine_mapping_times(case: &Case) -> (f64, f64) {
     let section = case.coupling.as_ref().expect("[coupling]");
     let reference = spillage_model::coupling::ParticleMeshMap::new(section);
     let mut fast = reference.clone();
-    fast.stencil_builder = spillage_fast::coupling::stencils_in_parallel;
-    fast.smoother = spillage_fast::coupling::smooth_in_parallel;
+    fast.solvers = spillage_fast::coupling::MAPPING_SOLVERS;
     let time = |map: &spillage_model::coupling::ParticleMeshMap| {
         let (mut seen, mut cells) = (Vec::new(), spillage_model::coupling::CellLoad::default());
         let reps = 5;

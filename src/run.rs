@@ -66,9 +66,7 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
     };
     let run = Coupled::new(case, state, fluid, particles).map_err(located)?;
     let run = match choice {
-        SolverChoice::Fast => {
-            run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel).with_smoother(spillage_fast::coupling::smooth_in_parallel)
-        }
+        SolverChoice::Fast => run.with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS),
         SolverChoice::Reference => run,
     };
     Ok(Box::new(match wear {

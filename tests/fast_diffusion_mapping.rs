@@ -14,7 +14,7 @@ use std::path::PathBuf;
 use spillage_fast::dem::FastDem;
 use spillage_fast::fluid::FastFluid;
 use spillage_model::case::Case;
-use spillage_model::coupling::{mapping, CellLoad, MappingMethod, ParticleMeshMap};
+use spillage_model::coupling::{CellLoad, MappingMethod, MappingSolvers, ParticleMeshMap};
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::state_diff::diff;
@@ -49,10 +49,7 @@ fn fast_run(case: &Case) -> Coupled<FastFluid, FastDem> {
     let mesh = spillage_model::mesh::for_case(case).expect("a mesh").expect("mesh");
     let fluid = FastFluid::new(case, mesh, &mut state).expect("fast fluid");
     let dem = FastDem::new(case, &mut state).expect("fast DEM");
-    Coupled::new(case, state, Some(fluid), Some(dem))
-        .expect("run")
-        .with_stencil_builder(spillage_fast::coupling::stencils_in_parallel)
-        .with_smoother(spillage_fast::coupling::smooth_in_parallel)
+    Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS)
 }
 
 /// Largest |a − b| over the largest |b| (0 for two zero fields).
@@ -71,11 +68,9 @@ fn compare(path: &str, gamma: f64, steps: usize) -> f64 {
     let case = diffusion_case(path, gamma);
     let section = case.coupling.as_ref().expect("coupled");
     let mut reference = ParticleMeshMap::new(section);
-    reference.stencil_builder = mapping::stencils_in_order;
-    reference.smoother = mapping::smooth_in_order;
+    reference.solvers = MappingSolvers::IN_ORDER;
     let mut fast = ParticleMeshMap::new(section);
-    fast.stencil_builder = spillage_fast::coupling::stencils_in_parallel;
-    fast.smoother = spillage_fast::coupling::smooth_in_parallel;
+    fast.solvers = spillage_fast::coupling::MAPPING_SOLVERS;
     let mut run = fast_run(&case);
     let mut worst = 0.0f64;
     for step in 1..=steps {

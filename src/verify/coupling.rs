@@ -124,12 +124,7 @@ fn run(case: &Case, solver: FluidSolver) -> Result<Trace> {
         FluidSolver::Fast => {
             let fluid = FastFluid::new(case, mesh, &mut state)?;
             let dem = FastDem::new(case, &mut state)?;
-            run_with(
-                case,
-                Coupled::new(case, state, Some(fluid), Some(dem))?
-                    .with_stencil_builder(spillage_fast::coupling::stencils_in_parallel)
-                    .with_smoother(spillage_fast::coupling::smooth_in_parallel),
-            )
+            run_with(case, Coupled::new(case, state, Some(fluid), Some(dem))?.with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS))
         }
         FluidSolver::Reference => {
             let fluid = ReferenceFluid::new(case, mesh, &mut state)?;

@@ -78,7 +78,7 @@ fn run_with(case: &Case, path: Path) -> Result<Box<dyn Solver>> {
     let run = Coupled::new(case, state, fluid, Some(dem))?;
     let run = match path {
         Path::Reference => run,
-        Path::Fast => run.with_stencil_builder(spillage_fast::coupling::stencils_in_parallel).with_smoother(spillage_fast::coupling::smooth_in_parallel),
+        Path::Fast => run.with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS),
     };
     Ok(match wear {
         Some(wear) => Box::new(run.with_wear(wear)?),

@@ -13,7 +13,12 @@ use rayon::prelude::*;
 
 use spillage_model::coupling::kernel::{stencil, KernelGeometry, Stencil};
 use spillage_model::coupling::mapping::host_cell;
+use spillage_model::coupling::MappingSolvers;
 use spillage_model::particles::Particle;
+
+/// The fast solver's mapping work: stencils built in parallel, diffusion smoothed on the fast
+/// linear solvers (`Coupled::with_mapping_solvers`).
+pub const MAPPING_SOLVERS: MappingSolvers = MappingSolvers { stencils: stencils_in_parallel, smoother: smooth_in_parallel };
 
 /// The kernel stencils of `particles` (σ = γ d), in particle order, built in parallel (a
 /// [`spillage_model::coupling::StencilBuilder`]).

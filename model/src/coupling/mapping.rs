@@ -85,10 +85,24 @@ pub struct ParticleMeshMap {
     pub distance_factor: f64,
     pub interface_mask: bool,
     pub min_fluid_fraction: f64,
-    /// How the kernel stencils are built ([`stencils_in_order`] unless a solver sets its own).
-    pub stencil_builder: StencilBuilder,
-    /// How the diffusion method smooths its fields ([`smooth_in_order`] unless a solver sets its own).
+    /// How the stencils are built and the diffusion fields smoothed ([`MappingSolvers::IN_ORDER`]
+    /// unless a solver sets its own).
+    pub solvers: MappingSolvers,
+}
+
+/// The two interchangeable pieces of work inside the mapping: building the kernel stencils and
+/// smoothing the diffusion method's fields. The reference does them one after the other
+/// ([`MappingSolvers::IN_ORDER`]); the fast solver brings parallel ones with the same stencils
+/// and a smoothing within round-off.
+#[derive(Clone, Copy, Debug)]
+pub struct MappingSolvers {
+    pub stencils: StencilBuilder,
     pub smoother: Smoother,
+}
+
+impl MappingSolvers {
+    /// One particle, one field after the other.
+    pub const IN_ORDER: MappingSolvers = MappingSolvers { stencils: stencils_in_order, smoother: smooth_in_order };
 }
 
 /// Smooths each of `fields` with one diffusion operator (one backward-Euler step,
@@ -131,8 +145,7 @@ impl ParticleMeshMap {
             distance_factor: section.distance_factor,
             interface_mask: section.interface_mask,
             min_fluid_fraction: section.min_fluid_fraction,
-            stencil_builder: stencils_in_order,
-            smoother: smooth_in_order,
+            solvers: MappingSolvers::IN_ORDER,
         }
     }
 
@@ -190,7 +203,7 @@ impl ParticleMeshMap {
             truncate_at_interface: !mesh.interfaces.is_empty(),
             empty_normal: super::cell_quadrature::empty_normal(mesh),
         };
-        (self.stencil_builder)(&geo, particles, gamma)
+        (self.solvers.stencils)(&geo, particles, gamma)
     }
 
     /// Cells within 3γ d_max of a sliding-interface face (call only when [`Self::masking`]).
@@ -254,7 +267,7 @@ impl ParticleMeshMap {
             for field in fields[1..].iter_mut() {
                 field.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
             }
-            (self.smoother)(&diffusion, &mut fields);
+            (self.solvers.smoother)(&diffusion, &mut fields);
             for field in fields[1..].iter_mut() {
                 field.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q *= v);
             }
@@ -290,7 +303,7 @@ impl ParticleMeshMap {
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
             let diffusion = self.diffusion(mesh, particles, 0.0);
             let mut fields: Vec<Vec<f64>> = velocity.iter_mut().chain(acceleration.iter_mut()).map(std::mem::take).collect();
-            (self.smoother)(&diffusion, &mut fields);
+            (self.solvers.smoother)(&diffusion, &mut fields);
             for (field, smoothed) in velocity.iter_mut().chain(acceleration.iter_mut()).zip(fields) {
                 *field = smoothed;
             }

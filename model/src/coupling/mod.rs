@@ -18,5 +18,5 @@ pub mod mapping;
 pub mod mask;
 pub mod settings;
 
-pub use mapping::{CellLoad, ParticleMeshMap, Smoother, StencilBuilder};
+pub use mapping::{CellLoad, MappingSolvers, ParticleMeshMap, Smoother, StencilBuilder};
 pub use settings::{CouplingSection, Feedback, MappingMethod};

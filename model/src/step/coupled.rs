@@ -155,18 +155,6 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             (None, None) => unreachable!("checked above"),
         };
         let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(ParticleMeshMap::new);
-        if let (Some(map), Some(f), Some(fluid_state), Some(p)) = (&mapping, &fluid, state.fluid.as_mut(), &state.particles) {
-            if state.step == 0 {
-                // the initial particles' fraction is there before the first step, at every time
-                // level, so the first ∂α_c/∂t sees only what the particles do in that step
-                let mut cells = CellLoad::default();
-                let volumes = ParticleLoad { volume: p.particles.iter().map(|p| p.volume()).collect(), ..ParticleLoad::zeros(p.particles.len()) };
-                map.deposit(f.mesh(), &p.particles, &volumes, &mut cells);
-                map.fluid_fraction(&cells, &mut fluid_state.alpha);
-                fluid_state.alpha_old.clone_from(&fluid_state.alpha);
-                fluid_state.alpha_old_old.clone_from(&fluid_state.alpha);
-            }
-        }
         let g = Vec3::from(case.physics.gravity);
         let down = (g.norm() > 0.0).then(|| g.normalize());
         let head = match (&case.cutter_head, &fluid) {
@@ -184,7 +172,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             use crate::fluid::settings::BoundaryCondition;
             f.mesh().patches.iter().map(|p| matches!(case.boundary.get(&p.name), Some(BoundaryCondition::Wall { .. } | BoundaryCondition::Symmetry))).collect()
         });
-        Ok(Coupled {
+        let mut run = Coupled {
             closed_patches,
             fluid,
             particles,
@@ -206,24 +194,35 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             failed_in_fluid: false,
             start_up,
             label,
-        })
+        };
+        run.map_initial_fraction();
+        Ok(run)
     }
 
-    /// Builds the kernel stencils of the mapping with `builder` (the fast solver's parallel one;
-    /// the same stencils as the default, [`crate::coupling::mapping::stencils_in_order`]).
-    pub fn with_stencil_builder(mut self, builder: crate::coupling::StencilBuilder) -> Self {
-        if let Some(map) = self.mapping.as_mut() {
-            map.stencil_builder = builder;
+    /// Maps a fresh run's initial particles to α_c, at every time level, so the first ∂α_c/∂t
+    /// sees only what the particles do in that step. A restarted run keeps its checkpointed α_c.
+    fn map_initial_fraction(&mut self) {
+        if self.state.step != 0 {
+            return;
         }
-        self
+        if let (Some(map), Some(f), Some(fluid_state), Some(p)) = (&self.mapping, &self.fluid, self.state.fluid.as_mut(), &self.state.particles) {
+            let mut cells = CellLoad::default();
+            let volumes = ParticleLoad { volume: p.particles.iter().map(|p| p.volume()).collect(), ..ParticleLoad::zeros(p.particles.len()) };
+            map.deposit(f.mesh(), &p.particles, &volumes, &mut cells);
+            map.fluid_fraction(&cells, &mut fluid_state.alpha);
+            fluid_state.alpha_old.clone_from(&fluid_state.alpha);
+            fluid_state.alpha_old_old.clone_from(&fluid_state.alpha);
+        }
     }
 
-    /// Smooths the diffusion method's fields with `smoother` (the fast solver's parallel one;
-    /// the reference's is [`crate::coupling::mapping::smooth_in_order`]). The α_c of a fresh
-    /// run's start was mapped by [`Coupled::new`] with the default.
-    pub fn with_smoother(mut self, smoother: crate::coupling::Smoother) -> Self {
+    /// Builds the mapping's stencils and smooths its diffusion fields with `solvers` (the fast
+    /// solver's parallel ones; the default is [`crate::coupling::MappingSolvers::IN_ORDER`]). A
+    /// fresh run's initial α_c is mapped again with them, so every α_c of the run comes from the
+    /// same solvers.
+    pub fn with_mapping_solvers(mut self, solvers: crate::coupling::MappingSolvers) -> Self {
         if let Some(map) = self.mapping.as_mut() {
-            map.smoother = smoother;
+            map.solvers = solvers;
+            self.map_initial_fraction();
         }
         self
     }
