@@ -19,6 +19,7 @@ pub mod arrays;
 pub mod integrate;
 pub mod neighbour_list;
 pub mod pair_forces;
+pub mod pair_lanes;
 pub mod wall_forces;
 
 use rayon::prelude::*;
@@ -69,6 +70,9 @@ pub struct FastDem {
     /// particles at its walls; a pass over all would bound the scaling with threads).
     at_wall: Vec<bool>,
     frames: Vec<WallFrame>,
+    /// Each wall's pose count: bumped whenever its frame changes (from 1, so a particle's
+    /// never-filled near triangles, at 0, never match).
+    poses: Vec<u64>,
     sums: StepSums,
     budget: EnergyBudget,
     /// Outer steps since the particles were last loaded (and sorted), and the contact records
@@ -103,6 +107,7 @@ impl FastDem {
             near: Vec::new(),
             at_wall: Vec::new(),
             frames: Vec::new(),
+            poses: Vec::new(),
             sums: StepSums::default(),
             budget: EnergyBudget::default(),
             steps_since_load: 0,
@@ -174,6 +179,23 @@ impl FastDem {
         particles.contacts = records;
     }
 
+    /// The walls' frames at this sub-step, counting the poses of the walls that moved.
+    fn place_frames(&mut self, walls: &WallState) {
+        if self.frames.len() != walls.walls.len() {
+            self.frames.clear();
+            self.poses.resize(walls.walls.len(), 0);
+        }
+        for (w, wall) in walls.walls.iter().enumerate() {
+            let frame = wall.frame();
+            match self.frames.get_mut(w) {
+                Some(same) if *same == frame => continue,
+                Some(moved) => *moved = frame,
+                None => self.frames.push(frame),
+            }
+            self.poses[w] += 1;
+        }
+    }
+
     /// Contact forces and torques at the current positions (§7.8); the first fault, if any;
     /// the pair contacts' totals only when `totals_needed`, the walls' always.
     fn evaluate_contacts(
@@ -191,8 +213,7 @@ impl FastDem {
         let pair_context =
             PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from, energy: totals_needed };
         let pair_fault = evaluate_pairs(&mut self.list, &self.arrays, &pair_context);
-        self.frames.clear();
-        self.frames.extend(walls.walls.iter().map(|w| w.frame()));
+        self.place_frames(walls);
         let wall_context = WallContext {
             materials: &self.setup.materials,
             wet_fluid: self.setup.wet_fluid,
@@ -200,6 +221,7 @@ impl FastDem {
             meshes: &self.wall_meshes.meshes,
             frames: &self.frames,
             generations: &self.wall_meshes.generations,
+            poses: &self.poses,
             skin: self.list.skin,
             time,
             dt,

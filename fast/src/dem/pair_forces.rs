@@ -14,6 +14,7 @@ use spillage_model::particles::ContactRecord;
 
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
+use super::pair_lanes::{four_pairs, Lane};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -30,13 +31,23 @@ pub struct PairContext<'a> {
 }
 
 /// Evaluates every listed pair into its entries; true when some pair has a fault (found by
-/// [`first_fault`]).
+/// [`first_fault`]). Four pairs at a time go through [`four_pairs`]; the lanes it leaves (and a
+/// last group of fewer than four) through the scalar [`evaluate`].
 pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) -> bool {
     let constants = &list.constants;
-    (&list.pairs, &mut list.touch, &mut list.records, &mut list.energy, &mut list.forces)
+    let groups =
+        (list.pairs.par_chunks(4), list.touch.par_chunks_mut(4), list.records.par_chunks_mut(4), list.energy.par_chunks_mut(4), list.forces.par_chunks_mut(4));
+    groups
         .into_par_iter()
-        .with_min_len(512)
-        .map(|(pair, touch, record, energy, out)| evaluate(pair, &constants[pair.constants as usize], touch, record, energy, out, arrays, context))
+        .with_min_len(128)
+        .map(|(pairs, touch, records, energy, out)| {
+            let lanes = if pairs.len() == 4 { four_pairs(pairs, constants, touch, energy, out, arrays, context.dt, context.energy) } else { [Lane::Scalar; 4] };
+            let mut fault = false;
+            for (l, pair) in pairs.iter().enumerate().filter(|&(l, _)| lanes[l] == Lane::Scalar) {
+                fault |= evaluate(pair, &constants[pair.constants as usize], &mut touch[l], &mut records[l], &mut energy[l], &mut out[l], arrays, context);
+            }
+            fault
+        })
         .reduce(|| false, |x, y| x || y)
 }
 

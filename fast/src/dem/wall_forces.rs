@@ -24,12 +24,22 @@ use super::arrays::ParticleArrays;
 pub struct NearTriangles {
     /// Body-frame centre of the particle when they were found.
     centre: Vec3,
+    /// World centre of the particle when they were found, and the wall's pose then
+    /// ([`WallContext::poses`]): while the wall keeps that pose, a particle far from it is
+    /// followed in the world frame, without moving to the body frame.
+    world: Vec3,
+    pose: u64,
     /// The wall mesh generation they were found in (0: never).
     generation: u64,
     /// Body-frame centre of the particle at this sub-step.
     body: Vec3,
     triangles: Vec<u32>,
 }
+
+/// The squared fraction of the skin a particle far from a wall that keeps its pose may move
+/// before its near triangles are looked for again: (0.99)², a margin far above the round-off
+/// between world and body lengths.
+const STILL_WALL_REACH: f64 = 0.99 * 0.99;
 
 /// One particle's side of its wall contacts: what persists (the contact history) and what the
 /// last evaluation found.
@@ -57,6 +67,8 @@ pub struct WallContext<'a> {
     pub frames: &'a [WallFrame],
     /// Each mesh's generation (bumped when a worn wall's mesh is rebuilt).
     pub generations: &'a [u64],
+    /// Each wall's pose count (bumped when its frame changes; a static wall keeps its count).
+    pub poses: &'a [u64],
     pub skin: f64,
     pub time: f64,
     pub dt: f64,
@@ -96,10 +108,17 @@ pub fn evaluate_walls(
     // most particles are far from every wall: find that out without touching the buffers
     let mut near_any = false;
     for (w, (near, mesh)) in near.iter_mut().zip(context.meshes).enumerate() {
+        let same_pose = near.pose == context.poses[w] && near.generation == context.generations[w];
+        // a rigid map keeps lengths (to round-off, which the 1 % margin covers): nothing came
+        // within reach of a particle that has no near triangle and moved less than the skin
+        if same_pose && near.triangles.is_empty() && (x - near.world).norm_squared() <= STILL_WALL_REACH * context.skin * context.skin {
+            continue;
+        }
         near.body = context.frames[w].to_body(x);
         if near.generation != context.generations[w] || !((near.body - near.centre).norm() <= context.skin) {
             mesh.triangles_within(near.body, r + context.skin, &mut near.triangles);
             (near.centre, near.generation) = (near.body, context.generations[w]);
+            (near.world, near.pose) = (x, context.poses[w]);
         }
         near_any |= !near.triangles.is_empty();
     }
