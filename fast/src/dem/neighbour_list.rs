@@ -95,6 +95,9 @@ pub struct NeighbourList {
     previous_first: Vec<usize>,
     /// (cell key, internal index), sorted.
     sorted_cells: Vec<(u64, u32)>,
+    /// Where each cell key's entries begin in `sorted_cells` (and one past the last key), when
+    /// the grid has few enough cells for a table; empty otherwise (binary search instead).
+    key_start: Vec<u32>,
     /// Found pairs (a, b, index in the previous list or the state's records) of the last build.
     found: Vec<(u32, u32, Option<usize>)>,
 }
@@ -144,17 +147,30 @@ impl NeighbourList {
         self.sorted_cells.clear();
         self.sorted_cells.extend(arrays.position.iter().enumerate().map(|(k, p)| (grid.key(grid.cell_of(*p)), k as u32)));
         self.sorted_cells.sort_unstable();
+        // a table of where each key begins spares 9 binary searches per particle; a cloud
+        // spread thin over a large box keeps the searches instead of a huge table
+        self.key_start.clear();
+        let keys = grid.dims.iter().product::<u64>();
+        if keys <= 8 * n as u64 + 4096 {
+            self.key_start.resize(keys as usize + 1, 0);
+            for &(key, _) in &self.sorted_cells {
+                self.key_start[key as usize + 1] += 1;
+            }
+            for k in 0..keys as usize {
+                self.key_start[k + 1] += self.key_start[k];
+            }
+        }
 
         std::mem::swap(&mut self.pairs, &mut self.previous_pairs);
         std::mem::swap(&mut self.touch, &mut self.previous_touch);
         std::mem::swap(&mut self.records, &mut self.previous_records);
         std::mem::swap(&mut self.first, &mut self.previous_first);
-        let (cells, skin) = (&self.sorted_cells, self.skin);
+        let (cells, skin) = (CellIndex { sorted: &self.sorted_cells, key_start: &self.key_start }, self.skin);
         let (previous_pairs, previous_first) = (&self.previous_pairs, &self.previous_first);
         self.found.clear();
         self.found.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
             let mut found = Vec::new();
-            for_each_partner(&grid, cells, arrays, skin, k, |j| found.push(j));
+            for_each_partner(&grid, &cells, arrays, skin, k, |j| found.push(j));
             found.into_iter().map(move |j| {
                 let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
                 let source = match history {
@@ -267,19 +283,34 @@ impl NeighbourList {
     }
 }
 
+/// The particles by cell: (key, internal index) sorted, and where each key begins when there is
+/// a table.
+struct CellIndex<'a> {
+    sorted: &'a [(u64, u32)],
+    key_start: &'a [u32],
+}
+
+impl CellIndex<'_> {
+    /// The entries with keys `lo..=hi`.
+    fn range(&self, lo: u64, hi: u64) -> &[(u64, u32)] {
+        if self.key_start.is_empty() {
+            let start = self.sorted.partition_point(|c| c.0 < lo);
+            let end = start + self.sorted[start..].partition_point(|c| c.0 <= hi);
+            &self.sorted[start..end]
+        } else {
+            &self.sorted[self.key_start[lo as usize] as usize..self.key_start[hi as usize + 1] as usize]
+        }
+    }
+}
+
 /// Calls `found(j)` for every particle j > k (internal order) whose gap to k is below `skin`.
-fn for_each_partner(grid: &Grid, cells: &[(u64, u32)], arrays: &ParticleArrays, skin: f64, k: usize, mut found: impl FnMut(usize)) {
+fn for_each_partner(grid: &Grid, cells: &CellIndex, arrays: &ParticleArrays, skin: f64, k: usize, mut found: impl FnMut(usize)) {
     let (x, r) = (arrays.position[k], arrays.radius[k]);
     let [cx, cy, cz] = grid.cell_of(x);
     for z in cz - 1..=cz + 1 {
         for y in cy - 1..=cy + 1 {
             // the three cells x − 1 … x + 1 of this row are one range of keys
-            let (lo, hi) = (grid.key([cx - 1, y, z]), grid.key([cx + 1, y, z]));
-            let start = cells.partition_point(|c| c.0 < lo);
-            for &(key, j) in &cells[start..] {
-                if key > hi {
-                    break;
-                }
+            for &(_, j) in cells.range(grid.key([cx - 1, y, z]), grid.key([cx + 1, y, z])) {
                 let j = j as usize;
                 if j > k && (arrays.position[j] - x).norm() < r + arrays.radius[j] + skin {
                     found(j);
