@@ -38,7 +38,7 @@ use spillage_model::walls::state::{WallFrame, WallState};
 use arrays::ParticleArrays;
 use integrate::{half_step, Half, StepSums};
 use neighbour_list::{History, NeighbourList};
-use pair_forces::{evaluate_pairs, first_fault, gather, PairContext};
+use pair_forces::{evaluate_and_add, evaluate_pairs, first_fault, gather, PairContext};
 use wall_forces::{evaluate_walls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
@@ -212,7 +212,22 @@ impl FastDem {
         }
         let pair_context =
             PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from, energy: totals_needed };
-        let pair_fault = evaluate_pairs(&mut self.list, &self.arrays, &pair_context);
+        let (list, arrays) = (&mut self.list, &mut self.arrays);
+        let mut forces = std::mem::take(&mut arrays.force);
+        let mut torques = std::mem::take(&mut arrays.torque);
+        let mut counts = std::mem::take(&mut arrays.contacts);
+        // one thread adds each pair to its particles as it goes; more evaluate the pairs in
+        // parallel and then sum each particle's (the same sums, in the same order)
+        let pair_fault = if rayon::current_num_threads() == 1 {
+            evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts)
+        } else {
+            let fault = evaluate_pairs(list, arrays, &pair_context);
+            let list = &*list;
+            (&mut forces, &mut torques, &mut counts).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c))| {
+                (*f, *t, *c) = gather(list, k);
+            });
+            fault
+        };
         self.place_frames(walls);
         let wall_context = WallContext {
             materials: &self.setup.materials,
@@ -227,26 +242,19 @@ impl FastDem {
             dt,
             fed_from: self.fed_from,
         };
-        let (list, arrays) = (&self.list, &mut self.arrays);
-        let mut forces = std::mem::take(&mut arrays.force);
-        let mut torques = std::mem::take(&mut arrays.torque);
-        let mut counts = std::mem::take(&mut arrays.contacts);
+        let arrays = &self.arrays;
         let n_walls = walls.walls.len();
-        if n_walls == 0 {
-            (&mut forces, &mut torques, &mut counts).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c))| {
-                (*f, *t, *c) = gather(list, k);
-            });
-        } else {
+        if n_walls > 0 {
             let near = self.near.par_chunks_mut(n_walls);
             (&mut forces, &mut torques, &mut counts, (&mut self.wall_sides, &mut self.at_wall), near).into_par_iter().enumerate().with_min_len(256).for_each(
                 |(k, (f, t, c, (side, at_wall), near))| {
-                    let (mut force, mut torque, pairs) = gather(list, k);
-                    evaluate_walls(k, arrays, &wall_context, near, side, &mut force, &mut torque);
-                    (*f, *t, *c) = (force, torque, pairs + side.contacts);
+                    evaluate_walls(k, arrays, &wall_context, near, side, f, t);
+                    *c += side.contacts;
                     *at_wall = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
                 },
             );
         }
+        let arrays = &mut self.arrays;
         (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
 
         // the pair totals feed the energy guard at the step's end and, while fed particles

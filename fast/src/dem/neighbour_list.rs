@@ -67,7 +67,7 @@ pub enum History<'a> {
 }
 
 /// The listed pairs, one entry per pair in each of the parallel arrays `pairs`, `touch`,
-/// `records`, `energy` and `forces`.
+/// `records`, `energy` and `forces`, in ascending (id of a, id of b).
 #[derive(Default)]
 pub struct NeighbourList {
     /// Gap below which a pair is listed [m].
@@ -81,8 +81,6 @@ pub struct NeighbourList {
     pub records: Vec<Option<ContactRecord>>,
     pub energy: Vec<PairEnergy>,
     pub forces: Vec<PairForce>,
-    /// Pairs whose lower internal index is k: `first[k]..first[k + 1]`.
-    first: Vec<usize>,
     /// Each particle's pairs in ascending partner id (the reference's order of summation):
     /// `(pair, particle is the pair's a)`.
     pub adjacency: Vec<(u32, bool)>,
@@ -92,7 +90,6 @@ pub struct NeighbourList {
     previous_pairs: Vec<Pair>,
     previous_touch: Vec<Touch>,
     previous_records: Vec<Option<ContactRecord>>,
-    previous_first: Vec<usize>,
     /// (cell key, internal index), sorted.
     sorted_cells: Vec<(u64, u32)>,
     /// Where each cell key's entries begin in `sorted_cells` (and one past the last key), when
@@ -164,9 +161,11 @@ impl NeighbourList {
         std::mem::swap(&mut self.pairs, &mut self.previous_pairs);
         std::mem::swap(&mut self.touch, &mut self.previous_touch);
         std::mem::swap(&mut self.records, &mut self.previous_records);
-        std::mem::swap(&mut self.first, &mut self.previous_first);
         let (cells, skin) = (CellIndex { sorted: &self.sorted_cells, key_start: &self.key_start }, self.skin);
-        let (previous_pairs, previous_first) = (&self.previous_pairs, &self.previous_first);
+        // the last list was built for these particles (`History::Previous`: same internal order)
+        let previous_pairs = &self.previous_pairs;
+        let previous_valid = self.built_at.len() == n;
+        let ids = |p: &Pair| (arrays.id[p.a as usize], arrays.id[p.b as usize]);
         self.found.clear();
         self.found.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
             let mut found = Vec::new();
@@ -178,14 +177,17 @@ impl NeighbourList {
                         let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
                         records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok()
                     }
-                    History::Previous if previous_first.len() == n + 1 => {
-                        (previous_first[k]..previous_first[k + 1]).find(|&i| previous_pairs[i].a as usize == a && previous_pairs[i].b as usize == b)
-                    }
+                    History::Previous if previous_valid => previous_pairs.binary_search_by_key(&(arrays.id[a], arrays.id[b]), ids).ok(),
                     History::Previous => None,
                 };
                 (a as u32, b as u32, source)
             })
         }));
+
+        // pairs in ascending (id of a, id of b): each particle meets its pairs in ascending
+        // partner id, the reference's order of summation, so a single thread can add each
+        // pair's force to its particles as it goes ([`super::pair_forces::evaluate_and_add`])
+        self.found.par_sort_unstable_by_key(|&(a, b, _)| (arrays.id[a as usize], arrays.id[b as usize]));
 
         // each pair's history, and its constants interned (a bed of one size has one entry)
         self.pairs.clear();
@@ -233,15 +235,6 @@ impl NeighbourList {
             };
             self.records.push(record);
             self.touch.push(touch);
-        }
-        // the pairs come grouped by their lower internal index k (the search's order)
-        self.first.clear();
-        self.first.resize(n + 1, 0);
-        for pair in &self.pairs {
-            self.first[pair.a.min(pair.b) as usize + 1] += 1;
-        }
-        for k in 0..n {
-            self.first[k + 1] += self.first[k];
         }
         self.forces.clear();
         self.forces.resize(self.pairs.len(), PairForce::default());
@@ -353,8 +346,8 @@ mod tests {
     }
 
     /// The list holds exactly the pairs whose gap is below the skin (all-pairs search), each
-    /// once, with the smaller id as `a`, for a tenfold size range; and each particle's
-    /// adjacency is in ascending partner id.
+    /// once, with the smaller id as `a`, in ascending ids, for a tenfold size range; and each
+    /// particle's adjacency is in ascending partner id.
     #[test]
     fn the_list_holds_exactly_the_pairs_within_the_skin() {
         let particles = cloud(400, 11, 0.3);
@@ -365,6 +358,8 @@ mod tests {
         list.build(&arrays, &rock(), History::Records(&[]));
         let mut listed: Vec<(u64, u64)> = list.pairs.iter().map(|s| (arrays.id[s.a as usize], arrays.id[s.b as usize])).collect();
         assert!(listed.iter().all(|(a, b)| a < b));
+        // in ascending (id of a, id of b): the one-thread evaluation adds the pairs in this order
+        assert!(listed.windows(2).all(|w| w[0] < w[1]), "pairs out of id order");
         listed.sort_unstable();
         let mut brute = Vec::new();
         for (i, p) in particles.iter().enumerate() {

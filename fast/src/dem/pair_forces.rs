@@ -31,8 +31,7 @@ pub struct PairContext<'a> {
 }
 
 /// Evaluates every listed pair into its entries; true when some pair has a fault (found by
-/// [`first_fault`]). Four pairs at a time go through [`four_pairs`]; the lanes it leaves (and a
-/// last group of fewer than four) through the scalar [`evaluate`].
+/// [`first_fault`]). Summed per particle by [`gather`].
 pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) -> bool {
     let constants = &list.constants;
     let groups =
@@ -40,15 +39,64 @@ pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context
     groups
         .into_par_iter()
         .with_min_len(128)
-        .map(|(pairs, touch, records, energy, out)| {
-            let lanes = if pairs.len() == 4 { four_pairs(pairs, constants, touch, energy, out, arrays, context.dt, context.energy) } else { [Lane::Scalar; 4] };
-            let mut fault = false;
-            for (l, pair) in pairs.iter().enumerate().filter(|&(l, _)| lanes[l] == Lane::Scalar) {
-                fault |= evaluate(pair, &constants[pair.constants as usize], &mut touch[l], &mut records[l], &mut energy[l], &mut out[l], arrays, context);
-            }
-            fault
-        })
+        .map(|(pairs, touch, records, energy, out)| evaluate_group(pairs, constants, touch, records, energy, out, arrays, context))
         .reduce(|| false, |x, y| x || y)
+}
+
+/// On one thread: every listed pair evaluated into its entries and added to its two particles'
+/// `force`, `torque` and `count` at once (no second pass over the pairs' forces). The list is in
+/// ascending (id of a, id of b), so each particle receives its pairs in ascending partner id,
+/// as [`gather`] sums them: the same bits as [`evaluate_pairs`] and [`gather`].
+pub fn evaluate_and_add(
+    list: &mut NeighbourList,
+    arrays: &ParticleArrays,
+    context: &PairContext,
+    force: &mut [Vec3],
+    torque: &mut [Vec3],
+    count: &mut [u32],
+) -> bool {
+    force.fill(Vec3::zeros());
+    torque.fill(Vec3::zeros());
+    count.fill(0);
+    let constants = &list.constants;
+    let groups =
+        list.pairs.chunks(4).zip(list.touch.chunks_mut(4)).zip(list.records.chunks_mut(4)).zip(list.energy.chunks_mut(4)).zip(list.forces.chunks_mut(4));
+    let mut fault = false;
+    for ((((pairs, touch), records), energy), out) in groups {
+        fault |= evaluate_group(pairs, constants, touch, records, energy, out, arrays, context);
+        for (pair, f) in pairs.iter().zip(out.iter()).filter(|(_, f)| f.touching) {
+            let (a, b) = (pair.a as usize, pair.b as usize);
+            force[a] += f.force;
+            torque[a] += f.torque_a;
+            count[a] += 1;
+            force[b] -= f.force;
+            torque[b] += f.torque_b;
+            count[b] += 1;
+        }
+    }
+    fault
+}
+
+/// Up to four consecutive pairs: through [`four_pairs`], and the lanes it leaves (or a last
+/// group of fewer than four) through the scalar [`evaluate`]; true when one has a fault.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn evaluate_group(
+    pairs: &[Pair],
+    constants: &[PairConstants],
+    touch: &mut [Touch],
+    records: &mut [Option<ContactRecord>],
+    energy: &mut [PairEnergy],
+    out: &mut [PairForce],
+    arrays: &ParticleArrays,
+    context: &PairContext,
+) -> bool {
+    let lanes = if pairs.len() == 4 { four_pairs(pairs, constants, touch, energy, out, arrays, context.dt, context.energy) } else { [Lane::Scalar; 4] };
+    let mut fault = false;
+    for (l, pair) in pairs.iter().enumerate().filter(|&(l, _)| lanes[l] == Lane::Scalar) {
+        fault |= evaluate(pair, &constants[pair.constants as usize], &mut touch[l], &mut records[l], &mut energy[l], &mut out[l], arrays, context);
+    }
+    fault
 }
 
 /// One pair; returns whether it has a fault. The record (cold memory) is touched only when a
