@@ -62,7 +62,11 @@ pub fn evaluate_and_add(
     let groups =
         list.pairs.chunks(4).zip(list.touch.chunks_mut(4)).zip(list.records.chunks_mut(4)).zip(list.energy.chunks_mut(4)).zip(list.forces.chunks_mut(4));
     let mut fault = false;
-    for ((((pairs, touch), records), energy), out) in groups {
+    // the pairs' forces are read back at once; the list keeps them only when the totals need
+    // their touching flags (the energy guard's sub-steps)
+    let mut scratch = [PairForce::default(); 4];
+    for ((((pairs, touch), records), energy), kept) in groups {
+        let out = if context.energy { kept } else { &mut scratch[..pairs.len()] };
         fault |= evaluate_group(pairs, constants, touch, records, energy, out, arrays, context);
         for (pair, f) in pairs.iter().zip(out.iter()).filter(|(_, f)| f.touching) {
             let (a, b) = (pair.a as usize, pair.b as usize);
