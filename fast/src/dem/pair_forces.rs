@@ -14,7 +14,7 @@ use spillage_model::particles::ContactRecord;
 
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
-use super::pair_lanes::{four_pairs, Lane};
+use super::pair_lanes::{four_pairs, FourPairs, Lane};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -95,7 +95,12 @@ fn evaluate_group(
     arrays: &ParticleArrays,
     context: &PairContext,
 ) -> bool {
-    let lanes = if pairs.len() == 4 { four_pairs(pairs, constants, touch, energy, out, arrays, context.dt, context.energy) } else { [Lane::Scalar; 4] };
+    let lanes = if pairs.len() == 4 {
+        let group = FourPairs { pairs, constants, touch: &mut *touch, energy: &mut *energy, out: &mut *out };
+        four_pairs(group, arrays, context.dt, context.energy)
+    } else {
+        [Lane::Scalar; 4]
+    };
     let mut fault = false;
     for (l, pair) in pairs.iter().enumerate().filter(|&(l, _)| lanes[l] == Lane::Scalar) {
         fault |= evaluate(pair, &constants[pair.constants as usize], &mut touch[l], &mut records[l], &mut energy[l], &mut out[l], arrays, context);

@@ -145,56 +145,36 @@ pub enum Lane {
     Scalar,
 }
 
-/// The four pairs `pairs` with their entries; returns each lane's outcome. Entries of lanes
+/// Four consecutive listed pairs and their entries.
+pub struct FourPairs<'a> {
+    pub pairs: &'a [Pair],
+    pub constants: &'a [PairConstants],
+    pub touch: &'a mut [Touch],
+    pub energy: &'a mut [PairEnergy],
+    pub out: &'a mut [PairForce],
+}
+
+/// The four pairs of `group` into their entries; returns each lane's outcome. Entries of lanes
 /// marked [`Lane::Scalar`] are not written. Compiled for AVX where the processor has it (four
 /// f64 lanes in one register; the same IEEE operations, so the same bits).
-#[allow(clippy::too_many_arguments)]
-pub fn four_pairs(
-    pairs: &[Pair],
-    constants: &[PairConstants],
-    touch: &mut [Touch],
-    energy: &mut [PairEnergy],
-    out: &mut [PairForce],
-    arrays: &ParticleArrays,
-    dt: f64,
-    measure_energy: bool,
-) -> [Lane; 4] {
+pub fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     #[cfg(target_arch = "x86_64")]
     {
         #[target_feature(enable = "avx")]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn with_avx(
-            pairs: &[Pair],
-            constants: &[PairConstants],
-            touch: &mut [Touch],
-            energy: &mut [PairEnergy],
-            out: &mut [PairForce],
-            arrays: &ParticleArrays,
-            dt: f64,
-            measure_energy: bool,
-        ) -> [Lane; 4] {
-            in_lanes(pairs, constants, touch, energy, out, arrays, dt, measure_energy)
+        unsafe fn with_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+            in_lanes(group, arrays, dt, measure_energy)
         }
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor has AVX (checked just above).
-            return unsafe { with_avx(pairs, constants, touch, energy, out, arrays, dt, measure_energy) };
+            return unsafe { with_avx(group, arrays, dt, measure_energy) };
         }
     }
-    in_lanes(pairs, constants, touch, energy, out, arrays, dt, measure_energy)
+    in_lanes(group, arrays, dt, measure_energy)
 }
 
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn in_lanes(
-    pairs: &[Pair],
-    constants: &[PairConstants],
-    touch: &mut [Touch],
-    energy: &mut [PairEnergy],
-    out: &mut [PairForce],
-    arrays: &ParticleArrays,
-    dt: f64,
-    measure_energy: bool,
-) -> [Lane; 4] {
+fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+    let FourPairs { pairs, constants, touch, energy, out } = group;
     let (a, b) = ([0, 1, 2, 3].map(|l| pairs[l].a as usize), [0, 1, 2, 3].map(|l| pairs[l].b as usize));
     let c = [0, 1, 2, 3].map(|l| &constants[pairs[l].constants as usize]);
     let ra = F4::new(|l| arrays.radius[a[l]]);
@@ -356,7 +336,8 @@ mod tests {
             let before = touch.clone();
             let (mut energy, mut out) = (vec![PairEnergy::default(); 4], vec![PairForce::default(); 4]);
             let dt = 1e-5 * (0.5 + uniform());
-            let lanes = four_pairs(&pairs, &constants, &mut touch, &mut energy, &mut out, &arrays, dt, true);
+            let group = FourPairs { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
+            let lanes = four_pairs(group, &arrays, dt, true);
             for l in 0..4 {
                 let (a, b) = (2 * l, 2 * l + 1);
                 let offset = arrays.position[b] - arrays.position[a];
