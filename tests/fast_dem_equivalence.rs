@@ -140,12 +140,20 @@ fn fed_cutter_head() {
     compare_over("cutter_head_feed.toml", 20, 20);
 }
 
-/// The same bits on 1 and 2 threads: every sum is taken in a fixed order. The pile (contacts
-/// in a box) and the hindered-settling cloud (two-way coupled: the fast DEM with the kernel
-/// stencils built in parallel).
+/// The same bits on 1 and 2 threads: every sum is taken in a fixed order, and one thread adds
+/// each pair to its particles as it goes while two sum them per particle afterwards. The pile
+/// (contacts in a box), the hindered-settling cloud (two-way coupled: the fast DEM with the
+/// kernel stencils built in parallel), a stream of impacts on a plate (wall contacts
+/// beginning and ending, wear) and the fed cutter head (turning walls, new pieces).
 #[test]
 fn fast_particle_path_gives_the_same_bits_on_one_and_two_threads() {
-    for (path, steps) in [("verification/dem/pile.toml", 20), ("verification/coupling/hindered_settling.toml", 5)] {
+    let cases = [
+        ("verification/dem/pile.toml", 20),
+        ("verification/coupling/hindered_settling.toml", 5),
+        ("verification/wear/stream_plate.toml", 10),
+        ("cutter_head_feed.toml", 5),
+    ];
+    for (path, steps) in cases {
         let c = case(path);
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
