@@ -128,10 +128,18 @@ impl CellSearch {
     /// Appends to `out` every cell whose centre lies within `radius` of `point` (in no
     /// particular order: callers sort).
     pub fn within(&self, mesh: &Mesh, point: &Vec3, radius: f64, out: &mut Vec<usize>) {
+        self.within_each(mesh, point, radius, |c, _| out.push(c));
+    }
+
+    /// Calls `visit` with every cell whose centre lies within `radius` of `point` and its
+    /// squared distance |x_c − point|² (in no particular order).
+    #[inline]
+    pub fn within_each(&self, mesh: &Mesh, point: &Vec3, radius: f64, mut visit: impl FnMut(usize, f64)) {
         let r2 = radius * radius;
         self.candidates(point, radius, |c| {
-            if (mesh.cell_centres[c] - point).norm_squared() <= r2 {
-                out.push(c);
+            let d2 = (mesh.cell_centres[c] - point).norm_squared();
+            if d2 <= r2 {
+                visit(c, d2);
             }
         });
     }

@@ -36,6 +36,12 @@ pub fn ghost_position(mesh: &Mesh, wall_faces: &[usize], x: &Vec3, support: f64)
         }
     }
     let (d2, f) = best?;
+    ghost_in_face(mesh, f, d2, x, support)
+}
+
+/// The ghost of a particle at `x` in wall face `f`, the nearest to it (squared distance `d2`
+/// between their centres), if that face is near enough ([`ghost_position`]).
+pub fn ghost_in_face(mesh: &Mesh, f: usize, d2: f64, x: &Vec3, support: f64) -> Option<Vec3> {
     let n = mesh.face_areas[f].normalize();
     let h = (x - mesh.face_centres[f]).dot(&n);
     // the plane, not the face centre, decides: a particle beside a large face is still near it

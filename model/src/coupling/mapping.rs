@@ -31,6 +31,7 @@ use super::cell_search::CellSearch;
 use super::diffusion::Diffusion;
 use super::kernel::{self, KernelGeometry, Stencil};
 use super::settings::{CouplingSection, MappingMethod};
+use super::stencil_cache::{BuilderMemory, StencilCache, Weights};
 use crate::closure::drag::FluidAtParticle;
 use crate::fluid::sampling::{material_acceleration, FluidSample};
 use crate::mesh::{Mesh, PatchKind, Vec3};
@@ -90,19 +91,26 @@ pub struct ParticleMeshMap {
     pub solvers: MappingSolvers,
 }
 
-/// The two interchangeable pieces of work inside the mapping: building the kernel stencils and
-/// smoothing the diffusion method's fields. The reference does them one after the other
-/// ([`MappingSolvers::IN_ORDER`]); the fast solver brings parallel ones with the same stencils
-/// and a smoothing within round-off.
+/// The interchangeable pieces of work inside the mapping: building the kernel stencils,
+/// smoothing the diffusion method's fields and reading the fluid through the stencils. The
+/// reference does them one after the other ([`MappingSolvers::IN_ORDER`]); the fast solver
+/// brings parallel ones with the same stencils and samples and a smoothing within round-off,
+/// and reuses a deposit's stencils for the next sample.
 #[derive(Clone, Copy, Debug)]
 pub struct MappingSolvers {
     pub stencils: StencilBuilder,
     pub smoother: Smoother,
+    pub sampler: Sampler,
+    /// Whether a sample may take the stencils of the deposit before it when they are the same
+    /// ([`StencilCache`]: same particles, σ and mesh, so the same bits). The reference builds
+    /// every stencil it uses.
+    pub reuse_stencils: bool,
 }
 
 impl MappingSolvers {
     /// One particle, one field after the other.
-    pub const IN_ORDER: MappingSolvers = MappingSolvers { stencils: stencils_in_order, smoother: smooth_in_order };
+    pub const IN_ORDER: MappingSolvers =
+        MappingSolvers { stencils: stencils_in_order, smoother: smooth_in_order, sampler: sample_in_order, reuse_stencils: false };
 }
 
 /// Smooths each of `fields` with one diffusion operator (one backward-Euler step,
@@ -118,16 +126,42 @@ pub fn smooth_in_order(diffusion: &Diffusion, fields: &mut [Vec<f64>]) {
     }
 }
 
-/// Builds the kernel stencil of every particle (σ = γ d, in particle order). Each stencil is a
-/// function of its own particle and the mesh alone, so any builder gives the same stencils: the
-/// reference builds them one after the other ([`stencils_in_order`]), the fast solver in
-/// parallel.
-pub type StencilBuilder = fn(geo: &KernelGeometry, particles: &[Particle], gamma: f64) -> Vec<Stencil>;
+/// Builds the kernel stencil of every particle (σ = γ d, in particle order) into `out` (one per
+/// particle), with at least the weights `weights`. Each stencil is a function of its own
+/// particle and the mesh alone, so any builder gives the same stencils: the reference builds
+/// them one after the other ([`stencils_in_order`]), the fast solver in parallel, reusing the
+/// storage in `out` and computing only the weights asked for.
+/// `memory` is the builder's own, kept between builds ([`BuilderMemory`]).
+pub type StencilBuilder = fn(geo: &KernelGeometry, particles: &[Particle], gamma: f64, weights: Weights, out: &mut Vec<Stencil>, memory: &mut BuilderMemory);
 
-/// The stencils one particle after the other.
-pub fn stencils_in_order(geo: &KernelGeometry, particles: &[Particle], gamma: f64) -> Vec<Stencil> {
+/// The stencils one particle after the other, both weights of each.
+pub fn stencils_in_order(geo: &KernelGeometry, particles: &[Particle], gamma: f64, _weights: Weights, out: &mut Vec<Stencil>, _memory: &mut BuilderMemory) {
     let mut scratch = Vec::new();
-    particles.iter().map(|p| kernel::stencil(geo, &p.position, p.diameter, gamma, host_cell(geo.mesh, &p.position), &mut scratch)).collect()
+    out.clear();
+    out.extend(particles.iter().map(|p| kernel::stencil(geo, &p.position, p.diameter, gamma, host_cell(geo.mesh, &p.position), &mut scratch)));
+}
+
+/// Reads `fields` (u_x, u_y, u_z, Du/Dt x, y, z, α_c per cell) through each stencil's sample
+/// weights into `out` (one row per stencil, in order; [`sample_one`] each). The rows are
+/// independent: a solver may take them in any order or at once.
+pub type Sampler = fn(stencils: &[Stencil], fields: &[&[f64]; 7], out: &mut Vec<[f64; 7]>);
+
+/// The rows one stencil after the other.
+pub fn sample_in_order(stencils: &[Stencil], fields: &[&[f64]; 7], out: &mut Vec<[f64; 7]>) {
+    out.clear();
+    out.extend(stencils.iter().map(|s| sample_one(s, fields)));
+}
+
+/// Σ_j s_j q_j of each field over one stencil, in its cell order.
+#[inline]
+pub fn sample_one(s: &Stencil, fields: &[&[f64]; 7]) -> [f64; 7] {
+    let mut sum = [0.0; 7];
+    for (&c, &w) in s.cells.iter().zip(&s.sample) {
+        for (total, field) in sum.iter_mut().zip(fields) {
+            *total += field[c] * w;
+        }
+    }
+    sum
 }
 
 /// The host cell of a particle: the cell holding its centre, or, in the sliver between a
@@ -188,22 +222,51 @@ impl ParticleMeshMap {
         CellSearch::new(mesh, self.largest_support(particles))
     }
 
+    /// The cell search for kernels of width σ = `gamma` d, binned at their largest support
+    /// 3γ d_max (the diffusion's deposit kernel is 13 times narrower than its support
+    /// 3γ d_max: binned at that, a query would test ~40 times the cells it finds).
+    fn kernel_search(&self, mesh: &Mesh, particles: &[Particle], gamma: f64) -> CellSearch {
+        CellSearch::new(mesh, 3.0 * gamma * particles.iter().map(|p| p.diameter).fold(0.0, f64::max))
+    }
+
     /// Whether the ∂α/∂t mask applies (an interface, particles and `interface_mask` on).
     fn masking(&self, mesh: &Mesh, particles: &[Particle]) -> bool {
         self.interface_mask && !mesh.interfaces.is_empty() && !particles.is_empty()
     }
 
-    /// The kernel stencils (σ = `gamma` d) of `particles` on `mesh` at its current position.
-    fn stencils(&self, mesh: &Mesh, particles: &[Particle], search: &CellSearch, gamma: f64) -> Vec<Stencil> {
-        let walls = kernel::wall_faces(mesh);
-        let geo = KernelGeometry {
-            mesh,
-            search,
-            wall_faces: &walls,
-            truncate_at_interface: !mesh.interfaces.is_empty(),
-            empty_normal: super::cell_quadrature::empty_normal(mesh),
-        };
-        (self.solvers.stencils)(&geo, particles, gamma)
+    /// The kernel stencils (σ = `gamma` d) of `particles` on `mesh` at its current position
+    /// with the weights `need`, in `cache`: taken from it if it holds them and the solvers reuse
+    /// stencils, else built with the weights `build` (which cover `need`; the cell search is
+    /// binned if `search` has none yet).
+    #[allow(clippy::too_many_arguments)]
+    fn stencils<'c>(
+        &self,
+        mesh: &Mesh,
+        particles: &[Particle],
+        search: &mut Option<CellSearch>,
+        gamma: f64,
+        (need, build): (Weights, Weights),
+        cache: &'c mut StencilCache,
+    ) -> &'c [Stencil] {
+        let reuse = self.solvers.reuse_stencils;
+        if !(reuse && cache.holds(mesh, particles, gamma, need)) {
+            let search = search.get_or_insert_with(|| self.kernel_search(mesh, particles, gamma));
+            let walls = kernel::wall_faces(mesh);
+            let geo = KernelGeometry {
+                mesh,
+                search,
+                wall_faces: &walls,
+                truncate_at_interface: !mesh.interfaces.is_empty(),
+                empty_normal: super::cell_quadrature::empty_normal(mesh),
+            };
+            (self.solvers.stencils)(&geo, particles, gamma, build, &mut cache.stencils, &mut cache.memory);
+            if reuse {
+                cache.record(mesh, particles, gamma, build);
+            } else {
+                cache.forget();
+            }
+        }
+        &cache.stencils
     }
 
     /// Cells within 3γ d_max of a sliding-interface face (call only when [`Self::masking`]).
@@ -224,12 +287,21 @@ impl ParticleMeshMap {
     /// Particle → mesh: spreads each particle's volume, implicit drag coefficient and explicit
     /// force (`load`, in the order of `particles`) over the cells of `mesh` into `out`.
     pub fn deposit(&self, mesh: &Mesh, particles: &[Particle], load: &ParticleLoad, out: &mut CellLoad) {
+        self.deposit_with(&mut StencilCache::default(), mesh, particles, load, out);
+    }
+
+    /// [`Self::deposit`], keeping its stencils in `cache` for the next sample (a coupled run's).
+    pub fn deposit_with(&self, cache: &mut StencilCache, mesh: &Mesh, particles: &[Particle], load: &ParticleLoad, out: &mut CellLoad) {
         let n = mesh.n_cells();
         *out = CellLoad::zeros(n);
-        // one binning of the cell centres serves the mask and the kernels
-        let search = (self.method != MappingMethod::Centroid || self.masking(mesh, particles)).then(|| self.cell_search(mesh, particles));
-        if let Some(search) = search.as_ref().filter(|_| self.masking(mesh, particles)) {
+        // one binning of the cell centres serves the mask and the kernels of the same support
+        let mut search = None;
+        if self.masking(mesh, particles) {
+            let search = search.insert(self.cell_search(mesh, particles));
             self.mask(mesh, particles, search, &mut out.masked);
+        }
+        if self.method != MappingMethod::Kernel {
+            search = None;
         }
         let mut volume = vec![0.0; n];
         let mut drag = vec![0.0; n];
@@ -243,9 +315,11 @@ impl ParticleMeshMap {
         };
         match self.method {
             MappingMethod::Kernel | MappingMethod::Diffusion => {
-                let search = search.as_ref().expect("built for the kernel and diffusion methods");
-                let gamma = if self.method == MappingMethod::Kernel { self.distance_factor } else { SPHERE_WIDTH_FACTOR };
-                for (i, s) in self.stencils(mesh, particles, search, gamma).iter().enumerate() {
+                let kernel = self.method == MappingMethod::Kernel;
+                let gamma = if kernel { self.distance_factor } else { SPHERE_WIDTH_FACTOR };
+                // the kernel's next sample is at these positions with this σ: its weights too
+                let build = if kernel && self.solvers.reuse_stencils { Weights::Both } else { Weights::Deposit };
+                for (i, s) in self.stencils(mesh, particles, &mut search, gamma, (Weights::Deposit, build), cache).iter().enumerate() {
                     for (&c, &w) in s.cells.iter().zip(&s.deposit) {
                         add(c, w, i);
                     }
@@ -286,6 +360,11 @@ impl ParticleMeshMap {
     /// Mesh → particle: the fluid each particle sees (velocity, fluid fraction, material
     /// acceleration), appended to `out` in particle order.
     pub fn sample(&self, source: &FluidSample, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
+        self.sample_with(&mut StencilCache::default(), source, particles, out);
+    }
+
+    /// [`Self::sample`], taking the stencils of the last deposit from `cache` when they apply.
+    pub fn sample_with(&self, cache: &mut StencilCache, source: &FluidSample, particles: &[Particle], out: &mut Vec<Option<FluidAtParticle>>) {
         let mesh = source.mesh;
         let fluid = source.fluid;
         let n = mesh.n_cells();
@@ -310,15 +389,12 @@ impl ParticleMeshMap {
         }
         match self.method {
             MappingMethod::Kernel | MappingMethod::Diffusion => {
-                for s in self.stencils(mesh, particles, &self.cell_search(mesh, particles), self.distance_factor) {
-                    let (mut u, mut a, mut alpha) = (Vec3::zeros(), Vec3::zeros(), 0.0);
-                    for (&c, &w) in s.cells.iter().zip(&s.sample) {
-                        u += at(&velocity, c) * w;
-                        a += at(&acceleration, c) * w;
-                        alpha += fluid.alpha[c] * w;
-                    }
-                    out.push(Some(seen(u, a, alpha)));
-                }
+                let weights = (Weights::Sample, Weights::Sample);
+                let stencils = self.stencils(mesh, particles, &mut None, self.distance_factor, weights, cache);
+                let fields = [&velocity[0][..], &velocity[1], &velocity[2], &acceleration[0], &acceleration[1], &acceleration[2], &fluid.alpha];
+                let mut sums = Vec::new();
+                (self.solvers.sampler)(stencils, &fields, &mut sums);
+                out.extend(sums.iter().map(|s| Some(seen(Vec3::new(s[0], s[1], s[2]), Vec3::new(s[3], s[4], s[5]), s[6]))));
             }
             MappingMethod::Centroid => {
                 for p in particles {

@@ -8,6 +8,7 @@
 //! - [`mapping`]: [`ParticleMeshMap`], the selected method both ways, and the [`CellLoad`] it makes;
 //! - [`cell_quadrature`]: a kernel integrated over a cell wider than the kernel;
 //! - [`cell_search`]: cells within a radius of a point;
+//! - [`stencil_cache`]: the stencils of a deposit kept for the next sample;
 //! - [`mask`]: the ∂α_c/∂t the pressure equation takes in the interface mask (T4.54).
 
 pub mod cell_quadrature;
@@ -17,6 +18,8 @@ pub mod kernel;
 pub mod mapping;
 pub mod mask;
 pub mod settings;
+pub mod stencil_cache;
 
-pub use mapping::{CellLoad, MappingSolvers, ParticleMeshMap, Smoother, StencilBuilder};
+pub use mapping::{CellLoad, MappingSolvers, ParticleMeshMap, Sampler, Smoother, StencilBuilder};
 pub use settings::{CouplingSection, Feedback, MappingMethod};
+pub use stencil_cache::{BuilderMemory, StencilCache, Weights};

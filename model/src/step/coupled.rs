@@ -35,7 +35,7 @@ use super::rotor_pose::RotorPose;
 use super::time_step::TimeStepControl;
 use crate::case::Case;
 use crate::closure::drag::FluidAtParticle;
-use crate::coupling::{CellLoad, ParticleMeshMap};
+use crate::coupling::{CellLoad, ParticleMeshMap, StencilCache};
 use crate::cutter_head::fluxes::HeadFluxes;
 use crate::cutter_head::spillage::{self, SpillageCounts};
 use crate::cutter_head::torque::{ControlVolume, TorqueBudget};
@@ -66,6 +66,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     samples: Vec<Option<FluidAtParticle>>,
     /// The particle ↔ mesh mapping of a two-way coupled run (`[coupling]`).
     mapping: Option<ParticleMeshMap>,
+    /// The stencils of the last deposit, for the next step's sample ([`StencilCache`]).
+    stencils: StencilCache,
     /// The particle load of the last step, per particle and mapped to the cells (output).
     particle_load: Option<ParticleLoad>,
     cell_load: Option<CellLoad>,
@@ -184,6 +186,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             ambient,
             samples: Vec::new(),
             mapping,
+            stencils: StencilCache::default(),
             particle_load: None,
             cell_load: None,
             down,
@@ -208,7 +211,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         if let (Some(map), Some(f), Some(fluid_state), Some(p)) = (&self.mapping, &self.fluid, self.state.fluid.as_mut(), &self.state.particles) {
             let mut cells = CellLoad::default();
             let volumes = ParticleLoad { volume: p.particles.iter().map(|p| p.volume()).collect(), ..ParticleLoad::zeros(p.particles.len()) };
-            map.deposit(f.mesh(), &p.particles, &volumes, &mut cells);
+            map.deposit_with(&mut self.stencils, f.mesh(), &p.particles, &volumes, &mut cells);
             map.fluid_fraction(&cells, &mut fluid_state.alpha);
             fluid_state.alpha_old.clone_from(&fluid_state.alpha);
             fluid_state.alpha_old_old.clone_from(&fluid_state.alpha);
@@ -318,7 +321,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             });
             self.samples.clear();
             match (&self.fluid, &self.state.fluid, &self.mapping) {
-                (Some(fluid), Some(fluid_state), Some(map)) => map.sample(&fluid.sample_source(fluid_state), &particles.particles, &mut self.samples),
+                (Some(fluid), Some(fluid_state), Some(map)) => {
+                    map.sample_with(&mut self.stencils, &fluid.sample_source(fluid_state), &particles.particles, &mut self.samples)
+                }
                 (Some(fluid), Some(fluid_state), None) => sample_containing_cell(&fluid.sample_source(fluid_state), &particles.particles, &mut self.samples),
                 _ => self.samples.resize(particles.particles.len(), self.ambient),
             }
@@ -405,7 +410,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             let particles = self.state.particles.as_ref().expect("checked in new");
             let fluid = self.state.fluid.as_mut().expect("checked in new");
             let cells = self.cell_load.get_or_insert_with(CellLoad::default);
-            map.deposit(phase.mesh(), &particles.particles, load, cells);
+            map.deposit_with(&mut self.stencils, phase.mesh(), &particles.particles, load, cells);
             let clamped = map.fluid_fraction(cells, &mut fluid.alpha);
             let mesh = phase.mesh();
             let alpha_p_max = cells.particle_fraction.iter().fold(0.0, |a: f64, b| a.max(*b));
