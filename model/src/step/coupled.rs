@@ -44,12 +44,15 @@ use crate::fluid::frozen_rotor::StartUp;
 use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
-use crate::particles::bookkeeping::{self, ExitRoute};
+use crate::particles::bookkeeping;
 use crate::particles::settings::ParticlesSection;
 use crate::solver::{CouplingOutput, Solver, SolverError, StepReport};
 use crate::state::State;
 
+mod exit_route;
 mod retry;
+
+use exit_route::exit_route;
 
 /// A fluid phase, a particle phase, or both, and the state they advance.
 pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
@@ -549,45 +552,6 @@ fn median(mut values: Vec<f64>) -> f64 {
     } else {
         0.5 * (values[n / 2 - 1] + values[n / 2])
     }
-}
-
-/// Where a particle at `position` has left to, if anywhere: outside `[particles] domain`, or
-/// outside the fluid mesh (through the patch of the nearest boundary face). A point outside
-/// every cell whose nearest boundary face is on a sliding interface is in the sliver between
-/// the rotor's and the stator's polygonal rings (up to r(1 − cos π/n_θ) wide), inside the
-/// domain: not an exit.
-///
-/// Likewise a particle less than a diameter beyond a closed patch (a wall or a symmetry plane,
-/// `closed[patch]`) has not left: it sits in the crater of a receding DEM wall (the fluid mesh
-/// does not follow the wear) or in the gap between a DEM wall and the mesh; it leaves only
-/// through open patches (inlets, outlets) or farther out.
-fn exit_route(
-    domain: Option<&crate::particles::settings::BoxRegion>,
-    mesh: Option<&Mesh>,
-    closed: &[bool],
-    position: &Vec3,
-    diameter: f64,
-) -> Option<ExitRoute> {
-    if let Some(d) = domain {
-        if !d.contains([position.x, position.y, position.z]) {
-            return Some(ExitRoute::Domain);
-        }
-    }
-    let mesh = mesh?;
-    if mesh.locate(position).is_some() {
-        return None;
-    }
-    let nearest = (mesh.n_internal_faces..mesh.n_faces())
-        .min_by(|&a, &b| (mesh.face_centres[a] - position).norm_squared().total_cmp(&(mesh.face_centres[b] - position).norm_squared()))?;
-    let (index, patch) = mesh.patches.iter().enumerate().find(|(_, p)| p.faces().contains(&nearest))?;
-    if matches!(patch.kind, crate::mesh::PatchKind::Interface { .. }) {
-        return None;
-    }
-    let normal = mesh.face_areas[nearest].normalize();
-    if closed.get(index).copied().unwrap_or(false) && (position - mesh.face_centres[nearest]).dot(&normal).abs() < diameter {
-        return None;
-    }
-    Some(ExitRoute::Patch(patch.name.clone()))
 }
 
 impl<F: FluidPhase, P: ParticlePhase> Solver for Coupled<F, P> {
