@@ -20,7 +20,7 @@ use std::cell::RefCell;
 use rayon::prelude::*;
 
 use spillage_model::coupling::cell_quadrature;
-use spillage_model::coupling::kernel::{KernelGeometry, Stencil};
+use spillage_model::coupling::kernel::{KernelGeometry, KernelShapes, Stencil};
 use spillage_model::coupling::mapping::host_cell;
 use spillage_model::coupling::{BuilderMemory, Weights};
 
@@ -242,7 +242,8 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
     let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
     // the reference's shapes, term for term; without φ wanted, φ becomes the indicator of
     // r ≤ 3σ (φ itself is at least e^{−4.5} there), which is all the skip below reads of it
-    let (support2, inverse_2s2) = (support * support, 1.0 / (2.0 * sigma * sigma));
+    let exact_shapes = KernelShapes::new(sigma);
+    let KernelShapes { support2, inverse_2s2 } = exact_shapes;
     let shapes = |r2: f64| {
         if r2 <= support2 {
             (if want_phi { (-r2 * inverse_2s2).exp() } else { 1.0 }, if r2 < support2 { r2 } else { 0.0 })
@@ -261,16 +262,7 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
     };
     // the quadrature's points may lie beyond 3σ where the centre does not: it takes the
     // reference's kernels whole
-    let exact_shapes = |r2: f64| if r2 <= support2 { ((-r2 * inverse_2s2).exp(), if r2 < support2 { r2 } else { 0.0 }) } else { (0.0, 0.0) };
-    let exact_kernels = |point: &Vec3| {
-        let (mut phi, mut psi) = exact_shapes((point - x).norm_squared());
-        if let Some(g) = &ghost {
-            let (a, b) = exact_shapes((point - g).norm_squared());
-            phi += a;
-            psi += b;
-        }
-        (phi, psi)
-    };
+    let exact_kernels = |point: &Vec3| exact_shapes.around(point, &x, ghost.as_ref());
     let spans_apply = geo.search.empty_normal() == geo.empty_normal;
     let table = rules.table.filter(|t| t.width() == sigma);
     for &c in &scratch.cells {

@@ -95,19 +95,8 @@ pub fn stencil(geo: &KernelGeometry, x: &Vec3, diameter: f64, gamma: f64, host: 
     let zone = mesh.cell_zone[host];
     let mut out = Stencil::default();
     let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
-    // φ = exp(−r²/2σ²) within 3σ (T3.74, T3.76) and ψ = r² within R = 3σ (T3.84), both without
-    // their prefactors, which the normalisation cancels; from r² alone, no root per point
-    let (support2, inverse_2s2) = (support * support, 1.0 / (2.0 * sigma * sigma));
-    let shapes = |r2: f64| if r2 <= support2 { ((-r2 * inverse_2s2).exp(), if r2 < support2 { r2 } else { 0.0 }) } else { (0.0, 0.0) };
-    let kernels = |point: &Vec3| {
-        let (mut phi, mut psi) = shapes((point - x).norm_squared());
-        if let Some(g) = &ghost {
-            let (a, b) = shapes((point - g).norm_squared());
-            phi += a;
-            psi += b;
-        }
-        (phi, psi)
-    };
+    let shapes = KernelShapes::new(sigma);
+    let kernels = |point: &Vec3| shapes.around(point, &x, ghost.as_ref());
     // the search's spans hold for this quadrature if they were taken with its 2-D normal
     let spans_apply = geo.search.empty_normal() == geo.empty_normal;
     for &c in scratch.iter() {
@@ -152,6 +141,44 @@ fn normalise_or_host(s: &mut Stencil, phi_sum: f64, psi_sum: f64, host: usize) {
             weights.iter_mut().for_each(|w| *w = 0.0);
             weights[host_index] = 1.0;
         }
+    }
+}
+
+/// The two kernels' shapes: φ = exp(−r²/2σ²) within 3σ (T3.74, T3.76) and ψ = r² within
+/// R = 3σ (T3.84), both without their prefactors, which the normalisation cancels; from r²
+/// alone, no root per point. Shared with the fast solver's stencils, which must have these bits.
+#[derive(Clone, Copy, Debug)]
+pub struct KernelShapes {
+    pub support2: f64,
+    pub inverse_2s2: f64,
+}
+
+impl KernelShapes {
+    pub fn new(sigma: f64) -> Self {
+        let support = 3.0 * sigma;
+        Self { support2: support * support, inverse_2s2: 1.0 / (2.0 * sigma * sigma) }
+    }
+
+    /// (φ, ψ) at squared distance `r2` from the centre.
+    #[inline]
+    pub fn at(&self, r2: f64) -> (f64, f64) {
+        if r2 <= self.support2 {
+            ((-r2 * self.inverse_2s2).exp(), if r2 < self.support2 { r2 } else { 0.0 })
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// (φ, ψ) at `point` of a particle at `x`, plus its mirror `ghost` beyond a wall.
+    #[inline]
+    pub fn around(&self, point: &Vec3, x: &Vec3, ghost: Option<&Vec3>) -> (f64, f64) {
+        let (mut phi, mut psi) = self.at((point - x).norm_squared());
+        if let Some(g) = ghost {
+            let (a, b) = self.at((point - g).norm_squared());
+            phi += a;
+            psi += b;
+        }
+        (phi, psi)
     }
 }
 
