@@ -169,7 +169,7 @@ fn build_one_point(geo: &KernelGeometry, x: &Vec3, ghost: Option<&Vec3>, sigma: 
     out.cells.clear();
     out.deposit.clear();
     out.sample.clear();
-    let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
+    let mut sums = (0.0, 0.0);
     // every cell found is within 3σ of the particle or the ghost, so its φ is at least e^{−4.5}:
     // none has both weights zero, the reference's reason to drop a cell
     for &c in cells.iter() {
@@ -180,17 +180,24 @@ fn build_one_point(geo: &KernelGeometry, x: &Vec3, ghost: Option<&Vec3>, sigma: 
         if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
             continue;
         }
-        out.cells.push(c);
-        if want_phi {
-            out.deposit.push(f);
-            phi_sum += f;
-        }
-        if want_psi {
-            out.sample.push(s);
-            psi_sum += s;
-        }
+        push_cell(out, (want_phi, want_psi), c, (f, s), &mut sums);
     }
-    normalise_or_host(out, (want_phi, want_psi), phi_sum, psi_sum, host);
+    normalise_or_host(out, (want_phi, want_psi), sums.0, sums.1, host);
+}
+
+/// Adds cell `c` with its (φ, ψ) integrals to the stencil, the wanted weights only, and to
+/// their running sums (in the reference's order of addition).
+#[inline]
+fn push_cell(out: &mut Stencil, (want_phi, want_psi): (bool, bool), c: usize, (phi, psi): (f64, f64), sums: &mut (f64, f64)) {
+    out.cells.push(c);
+    if want_phi {
+        out.deposit.push(phi);
+        sums.0 += phi;
+    }
+    if want_psi {
+        out.sample.push(psi);
+        sums.1 += psi;
+    }
 }
 
 /// Divides the computed weights by their sums; a weight set that sums to zero goes to the host
@@ -239,7 +246,7 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
     out.cells.clear();
     out.deposit.clear();
     out.sample.clear();
-    let (mut phi_sum, mut psi_sum) = (0.0, 0.0);
+    let mut sums = (0.0, 0.0);
     // the reference's shapes, term for term; without φ wanted, φ becomes the indicator of
     // r ≤ 3σ (φ itself is at least e^{−4.5} there), which is all the skip below reads of it
     let exact_shapes = KernelShapes::new(sigma);
@@ -280,17 +287,9 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
         if phi == 0.0 && psi == 0.0 {
             continue;
         }
-        out.cells.push(c);
-        if want_phi {
-            out.deposit.push(phi);
-            phi_sum += phi;
-        }
-        if want_psi {
-            out.sample.push(psi);
-            psi_sum += psi;
-        }
+        push_cell(out, (want_phi, want_psi), c, (phi, psi), &mut sums);
     }
-    normalise_or_host(out, (want_phi, want_psi), phi_sum, psi_sum, host);
+    normalise_or_host(out, (want_phi, want_psi), sums.0, sums.1, host);
 }
 
 #[cfg(test)]

@@ -10,98 +10,45 @@
 //! rounding of the squared distances can leave the deciding face out; the same face, the same
 //! squared distance and [`ghost_in_face`] then give the reference's ghost, bit for bit.
 
+use spillage_model::coupling::bucket_grid::BucketGrid;
 use spillage_model::coupling::kernel::ghost_in_face;
 use spillage_model::mesh::{Mesh, Vec3};
 
 /// Wall-face centres binned in cubes.
 pub struct WallGrid {
-    bucket: f64,
-    origin: [i64; 3],
-    dims: [i64; 3],
-    /// Bucket b holds `faces[start[b]..start[b + 1]]`: (position in `wall_faces`, face).
-    start: Vec<usize>,
-    faces: Vec<(usize, usize)>,
+    /// Bins the positions in `wall_faces`.
+    grid: BucketGrid,
+    wall_faces: Vec<usize>,
     /// max_f √|A_f| over the wall faces.
     largest_size: f64,
-}
-
-fn key(bucket: f64, x: &Vec3) -> [i64; 3] {
-    [(x.x / bucket).floor() as i64, (x.y / bucket).floor() as i64, (x.z / bucket).floor() as i64]
 }
 
 impl WallGrid {
     /// Bins `wall_faces` of `mesh` for queries of supports up to about `support`.
     pub fn new(mesh: &Mesh, wall_faces: &[usize], support: f64) -> Self {
-        let n = wall_faces.len();
-        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-        for &f in wall_faces {
-            lo = lo.inf(&mesh.face_centres[f]);
-            hi = hi.sup(&mesh.face_centres[f]);
-        }
         let largest_size = wall_faces.iter().map(|&f| mesh.face_areas[f].norm().sqrt()).fold(0.0, f64::max);
-        let extent = if n > 0 { hi - lo } else { Vec3::zeros() };
-        let reach = support + largest_size;
-        let mut bucket = if reach.is_finite() && reach > 0.0 { reach } else { extent.max().max(1.0) };
-        // at most ~4 buckets per face (as the cell search)
-        let cap = 4.0 * n as f64 + 64.0;
-        while (0..3).map(|d| (extent[d] / bucket).floor() + 1.0).product::<f64>() > cap {
-            bucket *= 1.5;
-        }
-        let (origin, dims) = if n > 0 {
-            let (a, b) = (key(bucket, &lo), key(bucket, &hi));
-            (a, [b[0] - a[0] + 1, b[1] - a[1] + 1, b[2] - a[2] + 1])
-        } else {
-            ([0; 3], [0; 3])
-        };
-        let index = |k: [i64; 3]| ((k[0] - origin[0]) + dims[0] * ((k[1] - origin[1]) + dims[1] * (k[2] - origin[2]))) as usize;
-        let n_buckets = (dims[0] * dims[1] * dims[2]) as usize;
-        let mut start = vec![0usize; n_buckets + 1];
-        for &f in wall_faces {
-            start[index(key(bucket, &mesh.face_centres[f])) + 1] += 1;
-        }
-        for b in 0..n_buckets {
-            start[b + 1] += start[b];
-        }
-        let mut fill = start.clone();
-        let mut faces = vec![(0, 0); n];
-        for (i, &f) in wall_faces.iter().enumerate() {
-            let b = index(key(bucket, &mesh.face_centres[f]));
-            faces[fill[b]] = (i, f);
-            fill[b] += 1;
-        }
-        Self { bucket, origin, dims, start, faces, largest_size }
+        let centres: Vec<Vec3> = wall_faces.iter().map(|&f| mesh.face_centres[f]).collect();
+        Self { grid: BucketGrid::new(&centres, support + largest_size), wall_faces: wall_faces.to_vec(), largest_size }
     }
 
     /// [`spillage_model::coupling::kernel::ghost_position`] of a particle at `x` with support
     /// `support`, bit for bit.
     pub fn ghost(&self, mesh: &Mesh, x: &Vec3, support: f64) -> Option<Vec3> {
-        if self.faces.is_empty() {
+        if self.grid.is_empty() {
             return None;
         }
         let radius = (support + self.largest_size) * (1.0 + 1e-9);
         let r2 = radius * radius;
-        let (lo, hi) = (key(self.bucket, &(x - Vec3::repeat(radius))), key(self.bucket, &(x + Vec3::repeat(radius))));
-        let range = |d: usize| (lo[d].max(self.origin[d]), hi[d].min(self.origin[d] + self.dims[d] - 1));
-        let ((i0, i1), (j0, j1), (k0, k1)) = (range(0), range(1), range(2));
-        // (squared distance, position in wall_faces, face) of the nearest, first on ties
-        let mut best: Option<(f64, usize, usize)> = None;
-        for k in k0..=k1 {
-            for j in j0..=j1 {
-                if i0 > i1 {
-                    continue;
-                }
-                let row = self.dims[0] * ((j - self.origin[1]) + self.dims[1] * (k - self.origin[2]));
-                let (a, b) = ((row + i0 - self.origin[0]) as usize, (row + i1 - self.origin[0]) as usize);
-                for &(i, f) in &self.faces[self.start[a]..self.start[b + 1]] {
-                    let d = (mesh.face_centres[f] - x).norm_squared();
-                    if d <= r2 && best.is_none_or(|(bd, bi, _)| d < bd || (d == bd && i < bi)) {
-                        best = Some((d, i, f));
-                    }
-                }
+        // (squared distance, position in wall_faces) of the nearest, first on ties
+        let mut best: Option<(f64, usize)> = None;
+        self.grid.candidates(x, radius, |i| {
+            let d = (mesh.face_centres[self.wall_faces[i]] - x).norm_squared();
+            if d <= r2 && best.is_none_or(|(bd, bi)| d < bd || (d == bd && i < bi)) {
+                best = Some((d, i));
             }
-        }
-        let (d2, _, f) = best?;
-        ghost_in_face(mesh, f, d2, x, support)
+        });
+        let (d2, i) = best?;
+        ghost_in_face(mesh, self.wall_faces[i], d2, x, support)
     }
 }
 

@@ -7,6 +7,7 @@
 //! slices and no hash. Queries return cells in no particular order (every caller sorts or only
 //! marks), so the bucket size changes the speed, never a result.
 
+use super::bucket_grid::BucketGrid;
 use super::cell_quadrature;
 use crate::mesh::{Mesh, Vec3};
 
@@ -15,15 +16,9 @@ use crate::mesh::{Mesh, Vec3};
 /// 5 mm cells and r = 3 cm: 2 per radius tests 1.5× the hits, 1 per radius 3×).
 const BUCKETS_PER_RADIUS: f64 = 2.0;
 
-/// Cell centres binned into cubes of side `bucket`.
+/// Cell centres binned into cubes, with what the kernel quadrature needs of each cell.
 pub struct CellSearch {
-    bucket: f64,
-    /// Integer coordinates of the first bucket and the grid's size in buckets.
-    origin: [i64; 3],
-    dims: [i64; 3],
-    /// Bucket b holds `cells[start[b]..start[b + 1]]` (x fastest).
-    start: Vec<usize>,
-    cells: Vec<usize>,
+    grid: BucketGrid,
     /// Per cell, the largest distance from its centre to a corner.
     reach: Vec<f64>,
     /// The largest of `reach`.
@@ -37,53 +32,13 @@ impl CellSearch {
     /// Bins every cell centre of `mesh`; `radius` is the usual query radius.
     pub fn new(mesh: &Mesh, radius: f64) -> Self {
         let n = mesh.n_cells();
-        let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-        for x in &mesh.cell_centres {
-            lo = lo.inf(x);
-            hi = hi.sup(x);
-        }
-        let extent = if n > 0 { hi - lo } else { Vec3::zeros() };
-        let mut bucket = if radius.is_finite() && radius > 0.0 { radius / BUCKETS_PER_RADIUS } else { extent.max().max(1.0) };
-        // at most ~4 buckets per cell (a radius far below the cells' size would make a huge
-        // grid of empty buckets): widen the buckets until the grid is that small
-        let cap = 4.0 * n as f64 + 64.0;
-        let buckets = |b: f64| (0..3).map(|d| (extent[d] / b).floor() + 1.0).product::<f64>();
-        while buckets(bucket) > cap {
-            bucket *= 1.5;
-        }
-        let (origin, dims) = if n > 0 {
-            let a = Self::key(bucket, &lo);
-            let b = Self::key(bucket, &hi);
-            (a, [b[0] - a[0] + 1, b[1] - a[1] + 1, b[2] - a[2] + 1])
-        } else {
-            ([0; 3], [0; 3])
-        };
-        let n_buckets = (dims[0] * dims[1] * dims[2]) as usize;
-        let index = |key: [i64; 3]| ((key[0] - origin[0]) + dims[0] * ((key[1] - origin[1]) + dims[1] * (key[2] - origin[2]))) as usize;
-        let bucket_of: Vec<usize> = mesh.cell_centres.iter().map(|x| index(Self::key(bucket, x))).collect();
-        let mut start = vec![0usize; n_buckets + 1];
-        for &b in &bucket_of {
-            start[b + 1] += 1;
-        }
-        for b in 0..n_buckets {
-            start[b + 1] += start[b];
-        }
-        let mut fill = start.clone();
-        let mut cells = vec![0; n];
-        for (c, &b) in bucket_of.iter().enumerate() {
-            cells[fill[b]] = c;
-            fill[b] += 1;
-        }
+        let grid = BucketGrid::new(&mesh.cell_centres, radius / BUCKETS_PER_RADIUS);
         let reach: Vec<f64> =
             mesh.cell_points.iter().zip(&mesh.cell_centres).map(|(ids, x)| ids.iter().map(|&p| (mesh.points[p] - x).norm()).fold(0.0, f64::max)).collect();
         let largest_reach = reach.iter().copied().fold(0.0, f64::max);
         let empty_normal = cell_quadrature::empty_normal(mesh);
         let span = (0..n).map(|c| cell_quadrature::widest_span(mesh, c, empty_normal.as_ref())).collect();
-        Self { bucket, origin, dims, start, cells, reach, largest_reach, span, empty_normal }
-    }
-
-    fn key(bucket: f64, x: &Vec3) -> [i64; 3] {
-        [(x.x / bucket).floor() as i64, (x.y / bucket).floor() as i64, (x.z / bucket).floor() as i64]
+        Self { grid, reach, largest_reach, span, empty_normal }
     }
 
     /// The largest distance from the centre of cell `c` to one of its corners.
@@ -105,24 +60,8 @@ impl CellSearch {
     /// Calls `visit` with every cell whose bucket meets the box of half-width `radius` about
     /// `point` (a superset of the cells within `radius`).
     #[inline]
-    fn candidates(&self, point: &Vec3, radius: f64, mut visit: impl FnMut(usize)) {
-        let lo = Self::key(self.bucket, &(point - Vec3::repeat(radius)));
-        let hi = Self::key(self.bucket, &(point + Vec3::repeat(radius)));
-        let range = |d: usize| (lo[d].max(self.origin[d]), hi[d].min(self.origin[d] + self.dims[d] - 1));
-        let ((i0, i1), (j0, j1), (k0, k1)) = (range(0), range(1), range(2));
-        for k in k0..=k1 {
-            for j in j0..=j1 {
-                if i0 > i1 {
-                    continue;
-                }
-                // the buckets i0..=i1 of row (j, k) are contiguous
-                let row = self.dims[0] * ((j - self.origin[1]) + self.dims[1] * (k - self.origin[2]));
-                let (a, b) = ((row + i0 - self.origin[0]) as usize, (row + i1 - self.origin[0]) as usize);
-                for &c in &self.cells[self.start[a]..self.start[b + 1]] {
-                    visit(c);
-                }
-            }
-        }
+    fn candidates(&self, point: &Vec3, radius: f64, visit: impl FnMut(usize)) {
+        self.grid.candidates(point, radius, visit);
     }
 
     /// Appends to `out` every cell whose centre lies within `radius` of `point` (in no

@@ -11,6 +11,7 @@
 //! - [`stencil_cache`]: the stencils of a deposit kept for the next sample;
 //! - [`mask`]: the ∂α_c/∂t the pressure equation takes in the interface mask (T4.54).
 
+pub mod bucket_grid;
 pub mod cell_quadrature;
 pub mod cell_search;
 pub mod diffusion;
