@@ -10,7 +10,7 @@
 use std::f64::consts::TAU;
 
 use super::geometry::CutterHead;
-use super::settings::CutterHeadSection;
+use super::settings::{BladeCells, CutterHeadSection};
 use crate::mesh::cartesian::graded_edges;
 use crate::mesh::{BlockedRotorStator, Mesh, MeshError, BLOCKED_ROTOR_STATOR_PATCHES};
 
@@ -49,7 +49,17 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
     let head = CutterHead::new(section);
     let (h, ho) = (section.mesh.cell_size, section.mesh.outer_cell_size);
     let ri = section.mesh.interface_radius;
-    let rotor_r = graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, ri, cells_over(ri - head.shaft_radius, h).max(2), 1.0)?;
+    let rotor_r = match section.mesh.blades {
+        BladeCells::Blocked => graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, ri, cells_over(ri - head.shaft_radius, h).max(2), 1.0)?,
+        // an edge on the widest contour radius: the blade tips and the ring end at R on every
+        // mesh, not up to a cell beyond it (the outflow is sensitive to the tip radius)
+        BladeCells::Baffles => {
+            let widest = head.contour().iter().map(|p| p.1).fold(0.0, f64::max);
+            let mut edges = graded_edges("cutter_head.mesh.cell_size", head.shaft_radius, widest, cells_over(widest - head.shaft_radius, h), 1.0)?;
+            edges.extend_from_slice(&graded_edges("cutter_head.mesh.cell_size", widest, ri, cells_over(ri - widest, h), 1.0)?[1..]);
+            edges
+        }
+    };
     let stator_r = graded_edges("cutter_head.mesh.outer_cell_size", ri, section.tank.radius, cells_over(section.tank.radius - ri, 0.5 * (h + ho)), ho / h)?;
     let z = z_edges(&head, section)?;
     let n_theta_rotor = ((TAU * head.radius_at(0.0) / h).ceil() as usize).max(3);
@@ -60,11 +70,19 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
         for j in 0..n_theta_rotor {
             let theta = [TAU * j as f64 / n_theta_rotor as f64, TAU * (j + 1) as f64 / n_theta_rotor as f64];
             for i in 0..n_r {
-                blocked.push(head.touches_solid([rotor_r[i], rotor_r[i + 1]], theta, [z[k], z[k + 1]]).is_some());
+                let (r, z) = ([rotor_r[i], rotor_r[i + 1]], [z[k], z[k + 1]]);
+                blocked.push(match section.mesh.blades {
+                    BladeCells::Blocked => head.touches_solid(r, theta, z).is_some(),
+                    BladeCells::Baffles => head.touches_plate(r, z).is_some(),
+                });
             }
         }
     }
-    let mut spec = BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, suction_radius: head.opening_radius };
+    let mut spec =
+        BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, baffles: Vec::new(), suction_radius: head.opening_radius };
+    if section.mesh.blades == BladeCells::Baffles {
+        spec.add_baffles_where(|a, b| head.blade_between(a, b).is_some());
+    }
     spec.close_pockets();
     let top = n_r * n_theta_rotor * (spec.z_edges.len() - 2);
     let pipe_open = (0..n_r).any(|i| !spec.blocked[top + i] && 0.5 * (spec.rotor_r[i] + spec.rotor_r[i + 1]) < head.opening_radius);
@@ -161,6 +179,95 @@ pub(crate) mod tests {
             let solid = whole - mesh.cell_volumes.iter().sum::<f64>();
             assert!(solid < previous, "h = {h}: solid volume {solid} m³ did not shrink");
             previous = solid;
+        }
+    }
+
+    /// The passages (between blade k and k + 1, by the cell centre's azimuth) met by each
+    /// connected group of the open cells whose centres lie well inside the blades' annulus (half
+    /// a cell from the blades' inner edge and the contour, a cell from the ring and the hub),
+    /// linked by the internal faces between two of them.
+    fn passages_of_connected_groups(section: &CutterHeadSection, mesh: &Mesh) -> Vec<Vec<usize>> {
+        let head = CutterHead::new(section);
+        let h = section.mesh.cell_size;
+        let inner = |cell: usize| {
+            let c = mesh.cell_centres[cell];
+            let (r, z) = (c.x.hypot(c.y), c.z);
+            z > -head.height() + h && z < -h && r > head.blade_inner_radius(z) + 0.5 * h && r < head.radius_at(z) - 0.25 * h
+        };
+        let passage = |cell: usize| {
+            let c = mesh.cell_centres[cell];
+            let (r, theta) = (c.x.hypot(c.y), c.y.atan2(c.x));
+            (0..section.blades).min_by(|&a, &b| {
+                let past = |k: usize| (theta - head.blade_azimuth(k, r, c.z)).rem_euclid(TAU);
+                past(a).total_cmp(&past(b))
+            })
+        };
+        let mut group: Vec<usize> = (0..mesh.n_cells()).map(|c| if inner(c) { c } else { usize::MAX }).collect();
+        fn root(group: &mut [usize], mut c: usize) -> usize {
+            while group[c] != c {
+                group[c] = group[group[c]];
+                c = group[c];
+            }
+            c
+        }
+        for f in 0..mesh.n_internal_faces {
+            let (a, b) = (mesh.face_owner[f], mesh.face_neighbour[f]);
+            if group[a] != usize::MAX && group[b] != usize::MAX {
+                let (ra, rb) = (root(&mut group, a), root(&mut group, b));
+                group[ra.max(rb)] = ra.min(rb);
+            }
+        }
+        let mut passages: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for cell in 0..mesh.n_cells() {
+            if group[cell] == usize::MAX {
+                continue;
+            }
+            let g = root(&mut group, cell);
+            passages.entry(g).or_default().extend(passage(cell));
+        }
+        passages
+            .into_values()
+            .map(|mut p| {
+                p.sort_unstable();
+                p.dedup();
+                p
+            })
+            .collect()
+    }
+
+    #[test]
+    fn baffle_blades_keep_the_passages_apart_and_take_no_volume() {
+        for h in [0.05, 0.04] {
+            let mut section = section(h);
+            section.mesh.blades = BladeCells::Baffles;
+            let spec = blocked_rotor_stator(&section).unwrap();
+            let mesh = build(&section).unwrap();
+            assert_cells_closed(&mesh);
+            assert_internal_faces_oriented(&mesh);
+            assert_boundary_faces_outward(&mesh);
+            // only the plates are blocked: the same slots as a head without blades
+            let mut bladeless = section.clone();
+            bladeless.blades = 0;
+            assert_eq!(spec.blocked, blocked_rotor_stator(&bladeless).unwrap().blocked, "h = {h}");
+            // each baffle is two faces of the head patch, back to back
+            let head = mesh.patch("head").unwrap();
+            let n_baffle_sides: u32 = spec.baffles.iter().map(|b| b.count_ones()).sum();
+            assert!(n_baffle_sides > 0);
+            let mut centres: Vec<[i64; 3]> = head.faces().map(|f| mesh.face_centres[f].map(|x| (x * 1e9).round() as i64).into()).collect();
+            let n = centres.len();
+            centres.sort_unstable();
+            centres.dedup();
+            assert_eq!(n - centres.len(), n_baffle_sides as usize / 2, "h = {h}: baffles as pairs of coincident head faces");
+            // the blades part the annulus: no connected group of cells reaches two passages, and
+            // every passage has cells; without blades the annulus is one group
+            let groups = passages_of_connected_groups(&section, &mesh);
+            assert!(groups.iter().all(|g| g.len() == 1), "h = {h}: a group spans passages {groups:?}");
+            let mut seen: Vec<usize> = groups.concat();
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen, (0..section.blades).collect::<Vec<_>>(), "h = {h}");
+            let open = passages_of_connected_groups(&bladeless, &build(&bladeless).unwrap());
+            assert_eq!(open.len(), 1, "h = {h}: {open:?}");
         }
     }
 

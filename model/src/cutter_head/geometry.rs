@@ -143,6 +143,31 @@ impl CutterHead {
         ]
     }
 
+    /// The plate a cylindrical cell r ∈ [r0, r1], z ∈ [z0, z1] overlaps, if any (at every θ: the
+    /// plates are axisymmetric).
+    pub fn touches_plate(&self, r: [f64; 2], z: [f64; 2]) -> Option<Part> {
+        self.plates().into_iter().find(|(_, pr, pz)| overlaps(r[0], r[1], pr[0], pr[1]) && overlaps(z[0], z[1], pz[0], pz[1])).map(|(part, _, _)| part)
+    }
+
+    /// The blade whose centre surface separates two body-frame points a and b (cylindrical
+    /// [r, θ, z]), if any: its azimuth offset θ − θ_blade(r, z) changes sign between them (not
+    /// across the half-turn away from the blade) and the crossing, interpolated linearly in that
+    /// offset, lies within the blade's extent (between the hub and the ring, from the blade's
+    /// inner edge to the contour R(z)). For two neighbouring cell centres this makes their
+    /// common face the blade's wall: every face path between the blade's two sides crosses one.
+    pub fn blade_between(&self, a: [f64; 3], b: [f64; 3]) -> Option<usize> {
+        let wrap = |angle: f64| angle - TAU * (angle / TAU).round();
+        (0..self.blades).find(|&k| {
+            let (da, db) = (wrap(a[1] - self.blade_azimuth(k, a[0], a[2])), wrap(b[1] - self.blade_azimuth(k, b[0], b[2])));
+            if (da < 0.0) == (db < 0.0) || (da - db).abs() >= std::f64::consts::PI {
+                return false;
+            }
+            let t = da / (da - db);
+            let (r, z) = (a[0] + t * (b[0] - a[0]), a[2] + t * (b[2] - a[2]));
+            z >= -self.height() && z <= 0.0 && r >= self.blade_inner_radius(z) && r <= self.radius_at(z)
+        })
+    }
+
     /// Heights in [z0, z1] where the blade's extent can be extreme: the ends and the contour
     /// points in between (R and φ are linear between them).
     fn blade_heights(&self, z0: f64, z1: f64) -> Vec<f64> {
@@ -156,10 +181,8 @@ impl CutterHead {
     /// so blades and plates stay watertight on any mesh (a staircase that converges to the
     /// true shape as the cells shrink).
     pub fn touches_solid(&self, r: [f64; 2], theta: [f64; 2], z: [f64; 2]) -> Option<Part> {
-        for (part, pr, pz) in self.plates() {
-            if overlaps(r[0], r[1], pr[0], pr[1]) && overlaps(z[0], z[1], pz[0], pz[1]) {
-                return Some(part);
-            }
+        if let Some(part) = self.touches_plate(r, z) {
+            return Some(part);
         }
         let h = self.height();
         let (z0, z1) = (z[0].max(-h), z[1].min(0.0));
@@ -262,6 +285,30 @@ pub(crate) mod tests {
         assert_eq!(head.touches_solid([0.5, 0.51], [0.0, 0.1], [-0.2, -0.19]), None);
         assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() - 0.1, head.hub_bottom() - 0.05]), None);
         assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() + 0.001, head.hub_bottom() + 0.002]), Some(Part::Hub));
+    }
+
+    #[test]
+    fn blade_between_finds_the_blade_two_points_straddle() {
+        let head = head();
+        let (r, z) = (0.32, -0.2);
+        for k in 0..head.blades {
+            let theta = head.blade_azimuth(k, r, z);
+            let point = |dtheta: f64, r: f64| [r, theta + dtheta, z];
+            assert_eq!(head.blade_between(point(-0.05, r), point(0.05, r)), Some(k));
+            // the same offsets a turn apart (cell centres are in [0, 2π))
+            assert_eq!(head.blade_between(point(-0.05 + TAU, r), point(0.05, r)), Some(k));
+            assert_eq!(head.blade_between(point(0.05, r), point(0.1, r)), None, "one side");
+            // beyond the contour R(z) (the tip) and inside the blade's inner edge: no blade
+            let tip = head.radius_at(z) + 0.01;
+            let (a, b) = ([tip, head.blade_azimuth(k, tip, z) - 0.05, z], [tip, head.blade_azimuth(k, tip, z) + 0.05, z]);
+            assert_eq!(head.blade_between(a, b), None, "past the tip");
+            let edge = head.blade_inner_radius(z) - 0.01;
+            let (a, b) = ([edge, head.blade_azimuth(k, edge, z) - 0.05, z], [edge, head.blade_azimuth(k, edge, z) + 0.05, z]);
+            assert_eq!(head.blade_between(a, b), None, "inside the inner edge");
+        }
+        // halfway between two blades: no blade
+        let mid = head.blade_azimuth(0, r, z) + std::f64::consts::PI / head.blades as f64;
+        assert_eq!(head.blade_between([r, mid - 0.01, z], [r, mid + 0.01, z]), None);
     }
 
     #[test]

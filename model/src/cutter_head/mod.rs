@@ -18,4 +18,4 @@ pub mod torque;
 pub mod walls;
 
 pub use geometry::{CutterHead, Part};
-pub use settings::{CutterHeadSection, Suction};
+pub use settings::{BladeCells, CutterHeadSection, Suction};

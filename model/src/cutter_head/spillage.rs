@@ -96,8 +96,13 @@ pub fn inside_cells(head: &CutterHead, mesh: &Mesh) -> Vec<bool> {
     (0..mesh.n_cells())
         .map(|cell| {
             let c = mesh.cell_centres[cell];
-            let r_min = mesh.cell_points[cell].iter().map(|&p| mesh.points[p].x.hypot(mesh.points[p].y)).fold(f64::INFINITY, f64::min);
-            c.z >= -head.height() && c.z <= 0.0 && r_min < head.radius_at(c.z)
+            // the mesh at rest: a turned rotor's radii differ by round-off, and a cell edge on
+            // the contour (`blades = "baffles"`) would flip sides with the rotor angle (and on a
+            // restart); an edge within round-off of R(z) counts as on it
+            let points = &mesh.reference_points;
+            let r_min = mesh.cell_points[cell].iter().map(|&p| points[p].x.hypot(points[p].y)).fold(f64::INFINITY, f64::min);
+            let radius = head.radius_at(c.z);
+            c.z >= -head.height() && c.z <= 0.0 && r_min < radius - 1e-9 * radius
         })
         .collect()
 }

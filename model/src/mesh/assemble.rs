@@ -33,6 +33,16 @@ pub struct HexCells {
 /// Build the mesh. `patch_of(cell, local_face)` names the patch (index into
 /// `input.patches`) of each unmatched cell face, see [`HEX_FACES`] for local face numbers.
 pub fn assemble(input: HexCells, patch_of: impl Fn(usize, usize) -> Result<usize, MeshError>) -> Result<Mesh, MeshError> {
+    assemble_with_baffles(input, patch_of, |_, _| None)
+}
+
+/// [`assemble`], where a face two cells share becomes a baffle, a boundary face of each cell in
+/// patch `baffle_of(cell, local_face)` (asked of the lower-numbered cell), when that is `Some`.
+pub fn assemble_with_baffles(
+    input: HexCells,
+    patch_of: impl Fn(usize, usize) -> Result<usize, MeshError>,
+    baffle_of: impl Fn(usize, usize) -> Option<usize>,
+) -> Result<Mesh, MeshError> {
     let n_cells = input.cells.len();
     let mut records: Vec<([usize; 4], usize, usize)> = Vec::with_capacity(6 * n_cells);
     for (cell, ids) in input.cells.iter().enumerate() {
@@ -70,7 +80,13 @@ pub fn assemble(input: HexCells, patch_of: impl Fn(usize, usize) -> Result<usize
                     return Err(MeshError::Topology(format!("cell {a} is its own neighbour")));
                 }
                 // records are sorted, so a < b: the lower cell owns the face.
-                internal.push((a, b, local_a, local_b));
+                match baffle_of(a, local_a) {
+                    Some(patch) if patch < input.patches.len() => boundary.extend([(patch, a, local_a), (patch, b, local_b)]),
+                    Some(patch) => {
+                        return Err(MeshError::Topology(format!("baffle of cells {a} and {b} assigned to patch {patch}, only {} exist", input.patches.len())))
+                    }
+                    None => internal.push((a, b, local_a, local_b)),
+                }
             }
             n => return Err(MeshError::Topology(format!("{n} cells share the face with points {:?}", records[i].0))),
         }

@@ -10,7 +10,7 @@
 
 use std::collections::VecDeque;
 
-use super::assemble::{assemble, HexCells};
+use super::assemble::{assemble_with_baffles, HexCells};
 use super::cylindrical::{add_block, LOCAL_INNER, LOCAL_OUTER, LOCAL_Z_MAX, LOCAL_Z_MIN};
 use super::{InterfaceSide, Locator, Mesh, MeshError, PatchKind};
 
@@ -29,6 +29,10 @@ pub struct BlockedRotorStator {
     pub n_theta_stator: usize,
     /// Rotor slot `i + n_r (j + n_θ k)` is solid.
     pub blocked: Vec<bool>,
+    /// Per rotor slot, bit `local` set: its face `local` (the hexahedron's local face numbers)
+    /// is a baffle, a wall of patch `head` on both sides (a zero-thickness blade). Empty: none.
+    /// Both slots of a face carry its bit.
+    pub baffles: Vec<u8>,
     pub suction_radius: f64,
 }
 
@@ -44,6 +48,48 @@ impl BlockedRotorStator {
     fn slot(&self, i: usize, j: usize, k: usize) -> usize {
         i + self.n_r() * (j % self.n_theta_rotor + self.n_theta_rotor * k)
     }
+    /// Whether face `local` of `slot` is a baffle.
+    fn is_baffle(&self, slot: usize, local: usize) -> bool {
+        self.baffles.get(slot).is_some_and(|bits| bits & (1 << local) != 0)
+    }
+
+    /// Marks face `local` of `slot` as a baffle on both of its sides (an open rotor slot's face
+    /// toward another rotor slot; a face on the block's boundary is left alone).
+    pub fn add_baffle(&mut self, slot: usize, local: usize) {
+        if let Some(other) = self.neighbour(slot, local) {
+            self.baffles.resize(self.blocked.len(), 0);
+            self.baffles[slot] |= 1 << local;
+            self.baffles[other] |= 1 << OPPOSITE[local];
+        }
+    }
+
+    /// Makes a baffle of every face between two open rotor slots whose centres (cylindrical
+    /// [r, θ, z], mid-edges) `separates` says a wall lies between.
+    pub fn add_baffles_where(&mut self, separates: impl Fn([f64; 3], [f64; 3]) -> bool) {
+        let n_t = self.n_theta_rotor;
+        let centre = |(i, j, k): (usize, usize, usize)| {
+            [
+                0.5 * (self.rotor_r[i] + self.rotor_r[i + 1]),
+                std::f64::consts::TAU * (j as f64 + 0.5) / n_t as f64,
+                0.5 * (self.z_edges[k] + self.z_edges[k + 1]),
+            ]
+        };
+        let mut faces = Vec::new();
+        for slot in (0..self.blocked.len()).filter(|&s| !self.blocked[s]) {
+            // each face once: from the slot on its inner, θ− or lower side
+            for local in [1, 3, 5] {
+                if let Some(other) = self.neighbour(slot, local) {
+                    if !self.blocked[other] && separates(centre(self.ijk(slot)), centre(self.ijk(other))) {
+                        faces.push((slot, local));
+                    }
+                }
+            }
+        }
+        for (slot, local) in faces {
+            self.add_baffle(slot, local);
+        }
+    }
+
     /// Neighbouring slots across the six hexahedron faces (None across the block's boundary).
     fn neighbour(&self, slot: usize, local: usize) -> Option<usize> {
         let (i, j, k) = self.ijk(slot);
@@ -59,6 +105,9 @@ impl BlockedRotorStator {
     }
 }
 
+/// The local face across the slot from each local face (inner/outer, θ−/θ+, z−/z+).
+const OPPOSITE: [usize; 6] = [1, 0, 3, 2, 5, 4];
+
 impl BlockedRotorStator {
     /// Blocks the open slots the solids cut off from the sliding interface (water enclosed by
     /// a staircase, e.g. between a coarse ring and pipe): such a pocket would be a separate
@@ -73,6 +122,9 @@ impl BlockedRotorStator {
         }
         while let Some(s) = queue.pop_front() {
             for local in 0..6 {
+                if self.is_baffle(s, local) {
+                    continue;
+                }
                 if let Some(t) = self.neighbour(s, local) {
                     if !self.blocked[t] && !reached[t] {
                         reached[t] = true;
@@ -110,6 +162,9 @@ impl Mesh {
         }
         if (0..n_slots).any(|s| spec.blocked[s] && spec.ijk(s).0 == n_r - 1) {
             return Err(MeshError::input("blocked", "(a solid next to the sliding interface)", "solids at least one cell inside the interface radius"));
+        }
+        if !spec.baffles.is_empty() && spec.baffles.len() != n_slots {
+            return Err(MeshError::input("baffles", spec.baffles.len(), &format!("none, or one bit set per rotor slot ({n_slots})")));
         }
         if spec.blocked.iter().all(|&b| b) {
             return Err(MeshError::input("blocked", "(every rotor slot)", "some open rotor cells"));
@@ -173,29 +228,35 @@ impl Mesh {
             zones: super::cylindrical::rotor_stator_zones(n_rotor_cells, n_cells),
             locator: Locator::Cylindrical { blocks: vec![rotor, stator] },
         };
-        let mut mesh = assemble(input, |cell, local| {
-            if cell >= n_rotor_cells {
-                return match local {
-                    LOCAL_OUTER => Ok(1),
-                    LOCAL_Z_MIN => Ok(2),
-                    LOCAL_Z_MAX => Ok(3),
-                    LOCAL_INNER => Ok(5),
-                    _ => Err(MeshError::Topology(format!("θ face {local} of stator cell {cell} is unmatched"))),
-                };
-            }
-            let slot = slot_of_cell[cell];
-            match spec.neighbour(slot, local) {
-                Some(t) if spec.blocked[t] => Ok(6),
-                Some(_) => Err(MeshError::Topology(format!("face {local} of rotor cell {cell} is unmatched next to an open cell"))),
-                None => Ok(match local {
-                    LOCAL_INNER => 0,
-                    LOCAL_OUTER => 4,
-                    LOCAL_Z_MIN => 2,
-                    _ if rotor_centre_radius(slot) < spec.suction_radius => 7,
-                    _ => 3,
-                }),
-            }
-        })?;
+        const HEAD: usize = 6;
+        let baffle_of = |cell: usize, local: usize| (cell < n_rotor_cells && spec.is_baffle(slot_of_cell[cell], local)).then_some(HEAD);
+        let mut mesh = assemble_with_baffles(
+            input,
+            |cell, local| {
+                if cell >= n_rotor_cells {
+                    return match local {
+                        LOCAL_OUTER => Ok(1),
+                        LOCAL_Z_MIN => Ok(2),
+                        LOCAL_Z_MAX => Ok(3),
+                        LOCAL_INNER => Ok(5),
+                        _ => Err(MeshError::Topology(format!("θ face {local} of stator cell {cell} is unmatched"))),
+                    };
+                }
+                let slot = slot_of_cell[cell];
+                match spec.neighbour(slot, local) {
+                    Some(t) if spec.blocked[t] => Ok(6),
+                    Some(_) => Err(MeshError::Topology(format!("face {local} of rotor cell {cell} is unmatched next to an open cell"))),
+                    None => Ok(match local {
+                        LOCAL_INNER => 0,
+                        LOCAL_OUTER => 4,
+                        LOCAL_Z_MIN => 2,
+                        _ if rotor_centre_radius(slot) < spec.suction_radius => 7,
+                        _ => 3,
+                    }),
+                }
+            },
+            baffle_of,
+        )?;
         let rotor_jk = |cell: usize| {
             let (_, j, k) = spec.ijk(slot_of_cell[cell]);
             (j, k)

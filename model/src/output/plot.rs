@@ -217,23 +217,30 @@ pub(crate) fn tick_text(value: f64, resolution: f64) -> String {
     }
 }
 
-/// The legend goes to the upper right unless the data crowd that corner more than the lower
-/// right (a rising curve such as a settling velocity ends under an upper-right legend).
+/// The legend goes to the corner whose data crowd it least, the upper right on a tie (a rising
+/// curve such as a settling velocity ends under an upper-right legend; two curves that rise from
+/// zero, one of them to the top, as a head's production and spillage, leave only the upper left).
 fn legend_corner(plot: &Plot, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
     let unit = |v: f64, (a, b): (f64, f64), log: bool| if log { (v.log10() - a.log10()) / (b.log10() - a.log10()) } else { (v - a) / (b - a) };
-    let (mut upper, mut lower) = (0usize, 0usize);
+    // points under each corner's box (about the legend's size), in order of preference: a tie
+    // keeps the legend on the right, where readers look for it
+    const CORNERS: [(SeriesLabelPosition, bool, bool); 4] = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let mut covered = [0usize; 4];
     for &(x, y) in plot.series.iter().flat_map(|s| s.points.iter()) {
         let (u, v) = (unit(x, (x0, x1), plot.log_x), unit(y, (y0, y1), plot.log_y));
-        if u > 0.5 {
-            upper += usize::from(v > 0.65);
-            lower += usize::from(v < 0.35);
+        for (count, &(_, right, upper)) in covered.iter_mut().zip(&CORNERS) {
+            let in_x = if right { u > 0.5 } else { u < 0.5 };
+            let in_y = if upper { v > 0.65 } else { v < 0.35 };
+            *count += usize::from(in_x && in_y);
         }
     }
-    if lower < upper {
-        SeriesLabelPosition::LowerRight
-    } else {
-        SeriesLabelPosition::UpperRight
-    }
+    let best = (0..CORNERS.len()).min_by_key(|&k| covered[k]).unwrap_or(0);
+    CORNERS[best].0.clone()
 }
 
 fn draw<XR, YR>(
@@ -485,6 +492,23 @@ mod frame_tests {
 
     /// A spiky series (a DEM overlap ratio: mostly 0, single-step peaks) stays inside its frame:
     /// no pixel of the series' colour in the caption band at the top or below the x axis labels.
+    #[test]
+    fn legend_takes_the_emptiest_corner() {
+        let rising: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 0.005 * k as f64)).collect();
+        let low: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 0.0015 * k as f64)).collect();
+        let falling: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 1.0 - 0.01 * k as f64)).collect();
+        let corner = |series: Vec<Series>| {
+            let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: false, log_y: false, series };
+            let (x, y) = (axis_range(Path::new("t.png"), &plot, Axis::X).unwrap(), axis_range(Path::new("t.png"), &plot, Axis::Y).unwrap());
+            legend_corner(&plot, x, y)
+        };
+        // a head's production (to 0.15) and spillage (to 0.5): the upper right holds spillage's end
+        let two = corner(vec![Series { label: "s", points: &rising }, Series { label: "p", points: &low }]);
+        assert!(matches!(two, SeriesLabelPosition::UpperLeft), "production and spillage");
+        assert!(matches!(corner(vec![Series { label: "f", points: &falling }]), SeriesLabelPosition::UpperRight), "a falling curve");
+        assert!(matches!(corner(vec![Series { label: "r", points: &rising }]), SeriesLabelPosition::LowerRight), "a rising curve");
+    }
+
     #[test]
     fn spiky_series_stay_inside_the_frame() {
         let points: Vec<(f64, f64)> = (0..3000).map(|i| (i as f64 * 1e-3, if i % 7 == 3 { 0.161 } else { 0.0 })).collect();
