@@ -55,7 +55,7 @@ impl BlockedRotorStator {
 
     /// Marks face `local` of `slot` as a baffle on both of its sides (an open rotor slot's face
     /// toward another rotor slot; a face on the block's boundary is left alone).
-    pub fn add_baffle(&mut self, slot: usize, local: usize) {
+    fn add_baffle(&mut self, slot: usize, local: usize) {
         if let Some(other) = self.neighbour(slot, local) {
             self.baffles.resize(self.blocked.len(), 0);
             self.baffles[slot] |= 1 << local;
