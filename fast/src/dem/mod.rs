@@ -36,10 +36,10 @@ use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
 use spillage_model::walls::state::{WallFrame, WallState};
 
 use arrays::ParticleArrays;
-use integrate::{half_step, Half, StepSums};
+use integrate::{advance_particles, Pass, StepSums};
 use neighbour_list::{History, NeighbourList};
 use pair_forces::{evaluate_and_add, evaluate_pairs, first_fault, gather, PairContext};
-use wall_forces::{evaluate_walls, NearTriangles, WallContext, WallSide};
+use wall_forces::{evaluate_walls, FarFromWalls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
 /// are listed, and the list lasts until a particle has moved half of it (a tenth of a diameter
@@ -65,6 +65,8 @@ pub struct FastDem {
     wall_sides: Vec<WallSide>,
     /// Each particle's near triangles of each wall (particle-major, in internal order).
     near: Vec<NearTriangles>,
+    /// Whether each particle is known to be far from every wall (internal order).
+    far: Vec<FarFromWalls>,
     /// Whether the last evaluation gave each particle a wall contact, impact or fault: the
     /// serial pass over the walls' results reads only these sides (a dense bed has a few
     /// particles at its walls; a pass over all would bound the scaling with threads).
@@ -105,6 +107,7 @@ impl FastDem {
             list: NeighbourList::default(),
             wall_sides: Vec::new(),
             near: Vec::new(),
+            far: Vec::new(),
             at_wall: Vec::new(),
             frames: Vec::new(),
             poses: Vec::new(),
@@ -156,6 +159,8 @@ impl FastDem {
         // the particles are in a new order: their near triangles are found again
         self.near.clear();
         self.near.resize(n * self.wall_meshes.meshes.len(), NearTriangles::default());
+        self.far.clear();
+        self.far.resize(n, FarFromWalls::default());
         self.at_wall.clear();
         self.at_wall.resize(n, false);
         let records = &particles.contacts;
@@ -237,6 +242,7 @@ impl FastDem {
             frames: &self.frames,
             generations: &self.wall_meshes.generations,
             poses: &self.poses,
+            epoch: self.poses.iter().chain(&self.wall_meshes.generations).sum(),
             skin: self.list.skin,
             time,
             dt,
@@ -246,11 +252,14 @@ impl FastDem {
         let n_walls = walls.walls.len();
         if n_walls > 0 {
             let near = self.near.par_chunks_mut(n_walls);
-            (&mut forces, &mut torques, &mut counts, (&mut self.wall_sides, &mut self.at_wall), near).into_par_iter().enumerate().with_min_len(256).for_each(
-                |(k, (f, t, c, (side, at_wall), near))| {
-                    evaluate_walls(k, arrays, &wall_context, near, side, f, t);
-                    *c += side.contacts;
-                    *at_wall = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
+            let particles = (&mut forces, &mut torques, &mut counts, &mut self.far);
+            (particles, (&mut self.wall_sides, &mut self.at_wall), near).into_par_iter().enumerate().with_min_len(256).for_each(
+                |(k, ((f, t, c, far), (side, at_wall), near))| {
+                    // a particle far from every wall keeps its empty side and `at_wall` false
+                    if evaluate_walls(k, arrays, &wall_context, far, near, side, f, t) {
+                        *c += side.contacts;
+                        *at_wall = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
+                    }
                 },
             );
         }
@@ -334,12 +343,13 @@ impl ParticlePhase for FastDem {
         let fluid = if fluid.iter().all(Option::is_none) { &[] } else { fluid };
         let mut impacts = std::mem::take(&mut particles.impacts);
         let logged_before = impacts.len();
+        let mut pass = advance_particles(Pass::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
+        self.budget.external += pass.work_first;
         for k in 0..n {
             let elapsed = (k + 1) as f64 * dt_s;
             // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose)
             let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
-            let (work, max_displacement_sq) = half_step(Half::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
-            self.budget.external += work;
+            let max_displacement_sq = pass.max_displacement_sq;
             walls.place(end_time, rotor_end.as_ref());
             let (sub, fault) = self.evaluate_contacts(walls, end_time, dt_s, max_displacement_sq, feeding || k + 1 == n, &mut impacts);
             self.budget.walls += dt_s * sub.wall_power;
@@ -353,7 +363,13 @@ impl ParticlePhase for FastDem {
                     what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1),
                 });
             }
-            self.budget.external += half_step(Half::Second, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, &[]).0;
+            // this sub-step's second half, with the next one's first half when there is one
+            let next = if k + 1 == n { Pass::Second } else { Pass::Between };
+            pass = advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
+            self.budget.external += pass.work_second;
+            if next == Pass::Between {
+                self.budget.external += pass.work_first;
+            }
             totals = sub;
         }
         self.arrays.store(&mut particles.particles);

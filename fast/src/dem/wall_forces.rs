@@ -36,6 +36,18 @@ pub struct NearTriangles {
     triangles: Vec<u32>,
 }
 
+/// Where a particle was when every wall, each unmoved since, was last looked at from there and
+/// none had a triangle near it: until a wall moves or is rebuilt (`epoch`), and while the
+/// particle stays within [`STILL_WALL_REACH`] of `world`, it has no wall contact, and the pass
+/// over the walls reads these 32 bytes instead of its near triangles and contact side (in a
+/// dense bed most particles are far from every wall, and that pass was bound by memory).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FarFromWalls {
+    world: Vec3,
+    /// [`WallContext::epoch`] when it was found; 0: not far (the epoch is at least 1).
+    epoch: u64,
+}
+
 /// The squared fraction of the skin a particle far from a wall that keeps its pose may move
 /// before its near triangles are looked for again: (0.99)², a margin far above the round-off
 /// between world and body lengths.
@@ -69,6 +81,8 @@ pub struct WallContext<'a> {
     pub generations: &'a [u64],
     /// Each wall's pose count (bumped when its frame changes; a static wall keeps its count).
     pub poses: &'a [u64],
+    /// Σ poses + Σ generations: changes whenever any wall moves or is rebuilt (both only grow).
+    pub epoch: u64,
     pub skin: f64,
     pub time: f64,
     pub dt: f64,
@@ -92,15 +106,25 @@ thread_local! {
 /// `force` and `torque` (in the reference's order: wall by wall, contact by contact). `near`
 /// holds the particle's near triangles of each wall (kept in one flat array for all particles:
 /// a pointer per particle to chase cost a third of the walls' time).
+///
+/// Returns false, touching neither `near` nor `side`, when `far` shows the particle far from
+/// every wall: `side` then still holds the empty result of the evaluation that found it far.
+#[allow(clippy::too_many_arguments)]
 pub fn evaluate_walls(
     k: usize,
     arrays: &ParticleArrays,
     context: &WallContext,
+    far: &mut FarFromWalls,
     near: &mut [NearTriangles],
     side: &mut WallSide,
     force: &mut Vec3,
     torque: &mut Vec3,
-) {
+) -> bool {
+    let reach_sq = STILL_WALL_REACH * context.skin * context.skin;
+    if far.epoch == context.epoch && (arrays.position[k] - far.world).norm_squared() <= reach_sq {
+        return false;
+    }
+    far.epoch = 0;
     side.impacts.clear();
     (side.power, side.elastic, side.placed, side.contacts, side.max_overlap_ratio, side.fault) = (0.0, 0.0, 0.0, 0, 0.0, None);
     let (id, r, x) = (arrays.id[k], arrays.radius[k], arrays.position[k]);
@@ -111,7 +135,7 @@ pub fn evaluate_walls(
         let same_pose = near.pose == context.poses[w] && near.generation == context.generations[w];
         // a rigid map keeps lengths (to round-off, which the 1 % margin covers): nothing came
         // within reach of a particle that has no near triangle and moved less than the skin
-        if same_pose && near.triangles.is_empty() && (x - near.world).norm_squared() <= STILL_WALL_REACH * context.skin * context.skin {
+        if same_pose && near.triangles.is_empty() && (x - near.world).norm_squared() <= reach_sq {
             continue;
         }
         near.body = context.frames[w].to_body(x);
@@ -124,7 +148,13 @@ pub fn evaluate_walls(
     }
     if !near_any {
         side.history.clear();
-        return;
+        // every wall, in its present pose and mesh, was looked at from here: the per-wall test
+        // above holds for each while no wall moves and the particle stays within reach of here
+        let looked_from_here = near.iter().enumerate().all(|(w, n)| n.world == x && n.pose == context.poses[w] && n.generation == context.generations[w]);
+        if looked_from_here {
+            *far = FarFromWalls { world: x, epoch: context.epoch };
+        }
+        return true;
     }
     SCRATCH.with(|scratch| {
         let scratch = &mut *scratch.borrow_mut();
@@ -188,4 +218,5 @@ pub fn evaluate_walls(
             }
         }
     });
+    true
 }
