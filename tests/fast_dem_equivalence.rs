@@ -133,6 +133,40 @@ fn wear_cases() {
     }
 }
 
+/// A still wall met from afar: the fast DEM skips a particle whose near triangles it found
+/// empty while it stays within 0.99 skin (0.1 d) of where it looked, and skips the whole wall
+/// pass for one far from every wall (`FarFromWalls`). Spheres start 0.3 to 30 skins above a
+/// plate, falling, and one rises off it and falls back under gravity: every contact must begin
+/// at the reference's sub-step, so a skip that outlives its reach fails here (checked: a reach
+/// of 3 skins does).
+#[test]
+fn spheres_meeting_a_still_wall_from_afar() {
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/verification/dem/dry_restitution.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
+    let edits = [
+        ("gravity = [0.0, 0.0, 0.0]", "gravity = [0.0, 0.0, -9.81]"),
+        ("dt = 1e-4", "dt = 1e-3"),
+        ("steps_per_collision = 400", "substep = 5e-5"),
+        ("positions = [[0.0, 0.0, 0.0051]]", "positions = [[0.0, 0.0, 0.0053], [0.02, 0.0, 0.0151], [0.04, 0.0, 0.0351], [-0.02, 0.0, 0.0051], [0.0, 0.03, 0.0071]]"),
+        ("velocities = [[0.0, 0.0, -1.0]]", "velocities = [[0.0, 0.0, -0.2], [0.0, 0.0, -1.0], [0.3, 0.0, -1.0], [0.0, 0.0, 0.3], [0.0, -0.5, -0.05]]"),
+    ];
+    let text = edits.iter().fold(text, |t, (from, to)| {
+        assert!(t.contains(from), "{from} not in {}", source.display());
+        t.replace(from, to)
+    });
+    let dir = std::env::temp_dir().join(format!("spillage-far-wall-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("far_wall.toml");
+    std::fs::write(&path, text).unwrap();
+    let c = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    // 70 steps of 20 sub-steps: the highest sphere lands at ≈ 30 ms, the rising one at ≈ 61 ms
+    let e = compare_particle_phases(&c, 1400, 70).unwrap_or_else(|e| panic!("{e:#}"));
+    std::fs::remove_dir_all(&dir).ok();
+    eprintln!("far wall: {} sub-steps, worst {:.3e} in {} at step {}", e.substeps, e.worst, e.worst_field, e.worst_step);
+    assert!(e.substeps >= 1400);
+    assert!(e.worst <= PARTICLE_TOLERANCE, "step {}: {} differs by {:e} of its scale", e.worst_step, e.worst_field, e.worst);
+}
+
 /// The cutter head fed with rock takes one sub-step per step at ≈ 0.4 s a step per phase:
 /// 20 steps (the feed places its first pieces, which hit the turning blades) instead of 100.
 #[test]
