@@ -96,7 +96,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run { case, solver, out, threads, restart, force } => run::run(&run::RunOptions { case, solver, out, threads, restart, force }),
         Command::Check { case } => check::check(&case),
-        Command::Verify { cases, json, full, plots, report } => verify_cmd::verify(&cases, json, full, plots.as_deref(), report.as_deref()),
+        // on a pool worker, as `run`'s time loop (run.rs): no hand-off per parallel loop
+        Command::Verify { cases, json, full, plots, report } => rayon::scope(|_| verify_cmd::verify(&cases, json, full, plots.as_deref(), report.as_deref())),
         Command::Analytic(args) => analytic_cmd::run(&args),
         Command::Sweep(args) => sweep::sweep(&args),
     };

@@ -39,8 +39,8 @@ pub struct NearTriangles {
 /// Where a particle was when every wall, each unmoved since, was last looked at from there and
 /// none had a triangle near it: until a wall moves or is rebuilt (`epoch`), and while the
 /// particle stays within [`STILL_WALL_REACH`] of `world`, it has no wall contact, and the pass
-/// over the walls reads these 32 bytes instead of its near triangles and contact side (in a
-/// dense bed most particles are far from every wall, and that pass was bound by memory).
+/// over the walls reads these 32 bytes instead of its near triangles and contact side (85 % of
+/// the sub-steps of the 10⁴ settling bed's particles). Not checkpointed: it changes no result.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FarFromWalls {
     world: Vec3,
