@@ -4,7 +4,7 @@
 
 use super::materials::MaterialTable;
 use super::non_contact::NonContactForces;
-use super::settings::ParticlesSection;
+use super::settings::{ParticlesSection, Restitution};
 use super::state::Vec3;
 use crate::case::Case;
 use crate::closure::drag::DragLaw;
@@ -37,9 +37,10 @@ impl DemSetup {
             state.walls = Some(crate::walls::build(case, &dir).map_err(|e| format!("walls: {e}"))?);
         }
         let materials = MaterialTable::new(&section.materials, section.slip_test);
-        let wet_fluid = match (&case.fluid, &section.ambient) {
-            (Some(f), _) => Some((f.density, f.kinematic_viscosity)),
-            (None, Some(a)) if a.wet_restitution => Some((a.density, a.kinematic_viscosity)),
+        let wet_fluid = match (section.restitution, &case.fluid, &section.ambient) {
+            (Restitution::Dry, _, _) => None,
+            (Restitution::Wet, Some(f), _) => Some((f.density, f.kinematic_viscosity)),
+            (Restitution::Wet, None, Some(a)) if a.wet_restitution => Some((a.density, a.kinematic_viscosity)),
             _ => None,
         };
         let drag_law = match (&case.coupling, &section.ambient) {
@@ -86,5 +87,37 @@ impl WallMeshes {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DemSetup;
+    use crate::case::Case;
+    use crate::state::State;
+
+    const COUPLED: &str = include_str!("../../../cases/verification/coupling/hydrostatic_held.toml");
+
+    fn wet_fluid(text: &str) -> Option<(f64, f64)> {
+        let case = Case::from_toml(text, std::path::Path::new("held.toml")).unwrap();
+        DemSetup::new(&case, &mut State::default()).unwrap().wet_fluid
+    }
+
+    /// In a fluid the contacts start wet (the case's water) unless `[particles] restitution =
+    /// "dry"` keeps ε_dry; another value is refused at its line, naming what is allowed.
+    #[test]
+    fn restitution_is_wet_in_a_fluid_unless_the_case_says_dry() {
+        let case = Case::from_toml(COUPLED, std::path::Path::new("held.toml")).unwrap();
+        let fluid = case.fluid.as_ref().unwrap();
+        assert_eq!(wet_fluid(COUPLED), Some((fluid.density, fluid.kinematic_viscosity)));
+        let dry = COUPLED.replacen("[particles]\n", "[particles]\nrestitution = \"dry\"\n", 1);
+        assert_ne!(dry, COUPLED);
+        assert_eq!(wet_fluid(&dry), None);
+        let bad = COUPLED.replacen("[particles]\n", "[particles]\nrestitution = \"damp\"\n", 1);
+        let e = Case::from_toml(&bad, std::path::Path::new("held.toml")).unwrap_err();
+        let line = bad.lines().position(|l| l.starts_with("restitution = \"damp\"")).unwrap() + 1;
+        assert_eq!(e.line, Some(line), "{e}");
+        let text = e.to_string();
+        assert!(text.contains("damp") && text.contains("wet") && text.contains("dry"), "{text}");
     }
 }

@@ -39,6 +39,26 @@ pub struct ParticlesSection {
     /// How the DEM moves the particles ([`Motion`]): `"free"` (the default) or `"held"`.
     #[serde(default)]
     pub motion: Motion,
+    /// Which normal restitution a contact starts with in a fluid ([`Restitution`]): `"wet"`
+    /// (the default) or `"dry"`.
+    #[serde(default)]
+    pub restitution: Restitution,
+}
+
+/// `[particles] restitution`: whether the surrounding fluid lowers the restitution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Restitution {
+    /// With a `[fluid]` (or a `[particles.ambient]` with `wet_restitution`), every contact
+    /// starts with ε_wet = ε_dry exp(−35/St_AM) of its approach (fluid-dem-model.md §7.5,
+    /// T3.103–104): a slow approach through water barely rebounds.
+    #[default]
+    Wet,
+    /// Every contact keeps the materials' ε_dry, at any approach speed: the rebound of the
+    /// wear model's point particles (wear-model.md §5.2: e = 0.99 constant, the tangential
+    /// velocity kept), which re-collide wherever the Coriolis tester's force presses them
+    /// onto the coupon.
+    Dry,
 }
 
 /// `[particles] motion`: whether the DEM moves the particles.
