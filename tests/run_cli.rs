@@ -385,6 +385,20 @@ fn check_prints_the_derived_numbers() {
     }
 }
 
+/// `spillage check` says whether the water lowers the restitution: wet by default in a fluid,
+/// not with `[particles] restitution = "dry"` (the Coriolis tester).
+#[test]
+fn check_says_whether_the_restitution_is_wet() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification");
+    for (case, needle) in [("coupling/settling_single.toml", "wet e/e_dry"), ("wear/coriolis_garnet.toml", "dry restitution: every contact keeps e_dry")] {
+        let out = spillage(&["check", root.join(case).to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        let stokes: Vec<&str> = text.lines().filter(|l| l.starts_with("Stokes")).collect();
+        assert!(!stokes.is_empty() && stokes.iter().all(|l| l.contains(needle)), "{case}: {needle:?} not on every Stokes line of\n{text}");
+    }
+}
+
 #[test]
 fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() {
     let dir = scratch("unconverged");
