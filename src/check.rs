@@ -379,7 +379,6 @@ fn turbulence_lines(case: &Case, d: &Derived) -> Vec<String> {
 fn particle_lines(case: &Case) -> Vec<String> {
     use spillage_model::closure::{collision_time, restitution};
     use spillage_model::particles::settings::GroupSection;
-    use spillage_model::particles::settings::Restitution;
     let Some(p) = &case.particles else { return Vec::new() };
     let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
     diameters.extend(p.groups.iter().map(|g| match g {
@@ -408,8 +407,7 @@ fn particle_lines(case: &Case) -> Vec<String> {
         }
     }
     let fluid = case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity)).or(p.ambient.as_ref().map(|a| (a.density, a.kinematic_viscosity)));
-    // as the DEM decides (`DemSetup`): `[particles] restitution`, and an ambient fluid's own switch
-    let wet = p.restitution == Restitution::Wet && (case.fluid.is_some() || p.ambient.as_ref().is_some_and(|a| a.wet_restitution));
+    let wet = p.wet_fluid(case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity))).is_some();
     if let Some((rho_f, nu)) = fluid {
         for m in &p.materials {
             let lo = restitution::stokes_number(m.density, rho_f, speed, d_min, nu);

@@ -4,7 +4,7 @@
 
 use super::materials::MaterialTable;
 use super::non_contact::NonContactForces;
-use super::settings::{ParticlesSection, Restitution};
+use super::settings::ParticlesSection;
 use super::state::Vec3;
 use crate::case::Case;
 use crate::closure::drag::DragLaw;
@@ -37,12 +37,7 @@ impl DemSetup {
             state.walls = Some(crate::walls::build(case, &dir).map_err(|e| format!("walls: {e}"))?);
         }
         let materials = MaterialTable::new(&section.materials, section.slip_test);
-        let wet_fluid = match (section.restitution, &case.fluid, &section.ambient) {
-            (Restitution::Dry, _, _) => None,
-            (Restitution::Wet, Some(f), _) => Some((f.density, f.kinematic_viscosity)),
-            (Restitution::Wet, None, Some(a)) if a.wet_restitution => Some((a.density, a.kinematic_viscosity)),
-            _ => None,
-        };
+        let wet_fluid = section.wet_fluid(case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity)));
         let drag_law = match (&case.coupling, &section.ambient) {
             (Some(c), _) => c.drag,
             (None, Some(a)) => a.drag,

@@ -110,6 +110,18 @@ impl ParticlesSection {
         1.0
     }
 
+    /// (ρ_f, ν) of the fluid whose wet restitution law (T3.103–104) the contacts follow, if any:
+    /// the case's `fluid` (density, viscosity), else a `[particles.ambient]` with
+    /// `wet_restitution`; none with `restitution = "dry"`. Both DEMs and `spillage check` ask here.
+    pub fn wet_fluid(&self, fluid: Option<(f64, f64)>) -> Option<(f64, f64)> {
+        match (self.restitution, fluid, &self.ambient) {
+            (Restitution::Dry, _, _) => None,
+            (Restitution::Wet, Some(fluid), _) => Some(fluid),
+            (Restitution::Wet, None, Some(a)) if a.wet_restitution => Some((a.density, a.kinematic_viscosity)),
+            _ => None,
+        }
+    }
+
     /// Index of the material called `name`.
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.materials.iter().position(|m| m.name == name)
