@@ -406,8 +406,9 @@ fn particle_lines(case: &Case) -> Vec<String> {
             lines.push(format!("DEM step     {dt_sub:.3e} s: {} sub-steps per step of {dt:e} s", collision_time::substeps(dt, dt_sub, 1.0)));
         }
     }
-    let fluid = case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity)).or(p.ambient.as_ref().map(|a| (a.density, a.kinematic_viscosity)));
-    let wet = p.wet_fluid(case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity))).is_some();
+    let case_fluid = case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity));
+    let fluid = case_fluid.or(p.ambient.as_ref().map(|a| (a.density, a.kinematic_viscosity)));
+    let wet = p.wet_fluid(case_fluid).is_some();
     if let Some((rho_f, nu)) = fluid {
         for m in &p.materials {
             let lo = restitution::stokes_number(m.density, rho_f, speed, d_min, nu);
