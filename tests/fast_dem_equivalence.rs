@@ -131,6 +131,9 @@ fn wear_cases() {
     for path in ["verification/wear/stream_plate.toml", "verification/wear/coriolis_garnet.toml"] {
         compare(path, 10);
     }
+    // the jet reaches its plate at step 41: 46 steps take both phases through its first impacts
+    // and the plate's first recession (787 sub-steps a step)
+    compare_over("verification/wear/jet_impingement.toml", 46 * 787, 46);
 }
 
 /// A still wall met from afar: the fast DEM skips a particle whose near triangles it found

@@ -1,6 +1,6 @@
-//! Wear (issue 17) through the whole step: the stream check of the ladder at its coarse level,
-//! restarts bit-for-bit with worn walls, the DEM colliding with the worn shape, a clear error
-//! instead of a tangled wall, and a cutter head wearing its blades.
+//! Wear (issue 17) through the whole step: the stream, Coriolis and jet checks of the ladder at
+//! their coarse level, restarts bit-for-bit with worn walls, the DEM colliding with the worn
+//! shape, a clear error instead of a tangled wall, and a cutter head wearing its blades.
 
 use std::path::Path;
 
@@ -54,6 +54,22 @@ fn the_coriolis_tester_lands_its_garnet_a_centimetre_after_the_step() {
     let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
     insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
         insta::assert_json_snapshot!("wear_coriolis_garnet", summary);
+    });
+}
+
+#[test]
+fn the_jet_wears_a_receding_plate_as_a_still_one_at_first_impact() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/jet_impingement.toml");
+    let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let rows = spillage::verify::run_case(&case, false).unwrap();
+    for r in &rows {
+        eprintln!("{:<80} value {:>12.5e} ref {:>10.3e} tol {:>10.3e} {}", r.quantity, r.value, r.reference, r.tolerance, if r.pass { "ok" } else { "FAIL" });
+    }
+    let failed: Vec<_> = rows.iter().filter(|r| !r.pass).collect();
+    assert!(failed.is_empty(), "{failed:#?}");
+    let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
+    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
+        insta::assert_json_snapshot!("wear_jet_impingement", summary);
     });
 }
 

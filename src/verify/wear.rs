@@ -21,13 +21,16 @@ use spillage_reference::wear::ReferenceWear;
 
 use super::CheckRow;
 
+mod jet;
+
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["wear_stream", "wear_profile"];
+pub const CHECKS: &[&str] = &["wear_stream", "wear_profile", "wear_jet"];
 
 pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
         "wear_stream" => stream(case, full, plots),
         "wear_profile" => profile(case, full, plots),
+        "wear_jet" => jet::jet(case, full, plots),
         other => bail!("unknown wear check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -52,9 +55,26 @@ fn numbers(case: &Case, key: &str) -> Result<Vec<f64>> {
 /// Runs a wear case to its end time with the reference DEM and wear phase (and the fast fluid
 /// when the case has one).
 pub fn run_to_end(case: &Case) -> Result<State> {
-    let mut state = State::default();
+    run_sampling(case, |_| Ok(()))
+}
+
+/// [`run_to_end`], handing the state to `sample` at the start and after every step.
+fn run_sampling(case: &Case, mut sample: impl FnMut(&State) -> Result<()>) -> Result<State> {
     let end = case.time.end_time.ok_or_else(|| anyhow!("{}: wear checks need [time] end_time", case.path.display()))?;
-    let mut run: Box<dyn Solver> = if case.fluid.is_some() {
+    let mut run = start(case)?;
+    sample(run.state())?;
+    while !reached_end_time(run.state().time, end) {
+        run.step().with_context(|| format!("case {}", case.case.name))?;
+        sample(run.state())?;
+    }
+    Ok(run.state().clone())
+}
+
+/// The run of a wear case as the checks step it: the reference DEM and wear phase, and the
+/// fast fluid when the case has one.
+fn start(case: &Case) -> Result<Box<dyn Solver>> {
+    let mut state = State::default();
+    Ok(if case.fluid.is_some() {
         let mesh = super::fluid::build_mesh(case)?;
         let fluid = FastFluid::new(case, mesh, &mut state)?;
         let dem = ReferenceDem::new(case, &mut state)?;
@@ -64,11 +84,7 @@ pub fn run_to_end(case: &Case) -> Result<State> {
         let dem = ReferenceDem::new(case, &mut state)?;
         let wear = ReferenceWear::new(case, &mut state)?;
         Box::new(Coupled::particles_only(case, state, dem)?.with_wear(Box::new(wear))?)
-    };
-    while !reached_end_time(run.state().time, end) {
-        run.step().with_context(|| format!("case {}", case.case.name))?;
-    }
-    Ok(run.state().clone())
+    })
 }
 
 /// The stream case with its particles aimed at `angle` (from the plate) at the same speed.
