@@ -184,6 +184,14 @@ const ABOUT: &[(&str, About)] = &[
         ),
     ),
     (
+        "wear_jet",
+        a(
+            "a jet of garnet at 30° on a plate that recedes as it wears, against the same plate held still (a dry stand-in: a retarding field slows the particles instead of water): wear at first impact, the wear rate's trend, the profile's relief, bookkeeping",
+            "thesis §4.5.2 (qualitative): identical wear at first impact; afterwards the receding wall's wear rate falls and flattens while the still wall's stays; exact volume identities",
+            "wear-model.md §12.3, §7.4, §15",
+        ),
+    ),
+    (
         "rotating_frame_free_particle",
         a(
             "free particles seen from the turning frame: position errors against the exact trajectory, observed order in Δt, A39 and A40",
