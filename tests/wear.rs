@@ -41,9 +41,10 @@ fn the_stream_check_passes_at_its_coarse_level() {
     });
 }
 
-#[test]
-fn the_coriolis_tester_lands_its_garnet_a_centimetre_after_the_step() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/coriolis_garnet.toml");
+/// Runs a wear case of the ladder at its coarse level: every row passes, and the rows (values to
+/// 3 significant digits) match the golden snapshot `snapshot`.
+fn coarse_level_matches_its_golden(file: &str, snapshot: &str) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear").join(file);
     let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let rows = spillage::verify::run_case(&case, false).unwrap();
     for r in &rows {
@@ -53,24 +54,18 @@ fn the_coriolis_tester_lands_its_garnet_a_centimetre_after_the_step() {
     assert!(failed.is_empty(), "{failed:#?}");
     let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
     insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
-        insta::assert_json_snapshot!("wear_coriolis_garnet", summary);
+        insta::assert_json_snapshot!(snapshot, summary);
     });
 }
 
 #[test]
+fn the_coriolis_tester_lands_its_garnet_a_centimetre_after_the_step() {
+    coarse_level_matches_its_golden("coriolis_garnet.toml", "wear_coriolis_garnet");
+}
+
+#[test]
 fn the_jet_wears_a_receding_plate_as_a_still_one_at_first_impact() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/jet_impingement.toml");
-    let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let rows = spillage::verify::run_case(&case, false).unwrap();
-    for r in &rows {
-        eprintln!("{:<80} value {:>12.5e} ref {:>10.3e} tol {:>10.3e} {}", r.quantity, r.value, r.reference, r.tolerance, if r.pass { "ok" } else { "FAIL" });
-    }
-    let failed: Vec<_> = rows.iter().filter(|r| !r.pass).collect();
-    assert!(failed.is_empty(), "{failed:#?}");
-    let summary: Vec<(String, String, bool)> = rows.iter().map(|r| (r.quantity.clone(), format!("{:.2e}", r.value), r.pass)).collect();
-    insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
-        insta::assert_json_snapshot!("wear_jet_impingement", summary);
-    });
+    coarse_level_matches_its_golden("jet_impingement.toml", "wear_jet_impingement");
 }
 
 #[test]
