@@ -1,7 +1,8 @@
 //! Wear checks (wear-model.md §6, §7, §15): a stream of identical particles against a plate,
 //! run through the whole step (DEM impacts → erosion law → deposit → smoothing → receding
 //! wall) and compared with the erosion law of the `analytic` crate and with the volume
-//! bookkeeping.
+//! bookkeeping; the Coriolis tester's wear profile (§12.4); and, in `jet.rs`, a jet on a
+//! receding plate against a still one (§12.3).
 
 use std::path::Path;
 
