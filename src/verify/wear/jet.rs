@@ -122,7 +122,8 @@ pub fn jet(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
         number(base, "first_tolerance")?,
     ));
     let span = number(base, "rate_window")?;
-    let early = (first + number(base, "arrival")?, first + number(base, "arrival")? + span);
+    let arrival = first + number(base, "arrival")?;
+    let early = (arrival, arrival + span);
     let late = (end - span, end);
     if full {
         if late.0 < early.1 {
