@@ -339,6 +339,10 @@ fn wear_lines(case: &Case) -> Vec<String> {
         )),
         None => lines.push("smoothing    none: each impact recedes at once from the three corners of its triangle".into()),
     }
+    if wear.sliding {
+        lines
+            .push("sliding      on: a contact's normal impulse beyond its collision's wears as grazing re-collisions would (wear-model.md §14 item 12)".into());
+    }
     let (Ok(law), Some(particles)) = (ErosionLaw::from_section(wear), &case.particles) else { return lines };
     for feed in &particles.feed {
         let speed = feed.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();

@@ -18,8 +18,13 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     for w in &wear.walls {
         let impacts: u64 = w.triangle_impacts.iter().sum();
         let max_depth = w.node_depth.iter().fold(0.0, |m: f64, d| m.max(*d));
+        let sliding = if section.sliding {
+            format!(" ({:.1} % of it by sliding)", 100.0 * w.sliding_deposited / w.deposited.max(f64::MIN_POSITIVE))
+        } else {
+            String::new()
+        };
         lines.push(format!(
-            "wear {:<12} {impacts} impacts, {:.4e} m³ removed ({:.4e} kg at {density} kg/m³), deepest {:.4e} m{}",
+            "wear {:<12} {impacts} impacts, {:.4e} m³ removed{sliding} ({:.4e} kg at {density} kg/m³), deepest {:.4e} m{}",
             w.name,
             w.deposited,
             w.deposited * density,

@@ -370,6 +370,7 @@ fn impacts(walls: &WallState, n: usize, seed: u64, time: f64) -> Vec<ImpactRecor
                 density: 2500.0,
                 point: a + u * (b - a) + v * (c - a),
                 normal: -Vec3::z(),
+                sliding: false,
             }
         })
         .collect()

@@ -185,6 +185,27 @@ pub fn arabnejad_wear(
     Ok(ImpactWear { cutting_volume, deformation_volume, volume, mass: material.density * volume })
 }
 
+/// Arabnejad sliding wear rate [m³/s] of a particle pressed onto a wall by the normal force
+/// `normal_force` [N] while sliding at `speed` [m/s] (wear-model.md §14 item 12, the thesis'
+/// point particle re-colliding with restitution e at every step).
+///
+/// Derivation, independent of the solvers: a rebound at normal speed v_n = U sinθ transfers
+/// the normal impulse J = (1 + e) m U sinθ. At small θ the cutting angle function is
+/// f(θ) = (K sin2θ − sin²θ)/(2K²) = θ/K + O(θ²), so one grazing impact removes
+/// W = (m F_s / 2) C U^2.41 θ / (K √Hv) and the deformation term is zero (U sinθ → 0 below any
+/// threshold). Per unit impulse W/J = F_s C U^1.41 / (2 K (1 + e) √Hv), whatever θ; a wall
+/// that delivers the impulse rate F_n therefore wears at
+/// dW/dt = F_s C U^1.41 F_n / (2 K (1 + e) √Hv), per real particle.
+pub fn arabnejad_sliding_wear_rate(material: &ArabnejadMaterial, restitution: f64, normal_force: f64, speed: f64) -> Result<f64> {
+    non_negative("normal_force", normal_force)?;
+    non_negative("speed", speed)?;
+    positive("vickers_hardness", material.vickers_hardness)?;
+    positive("contact_ratio", material.contact_ratio)?;
+    non_negative("restitution", restitution)?;
+    Ok(material.sharpness * material.cutting_coefficient * speed.powf(1.41) * normal_force
+        / (2.0 * material.contact_ratio * (1.0 + restitution) * material.vickers_hardness.sqrt()))
+}
+
 /// Erosion ratio ER = ρ_mat W/m (wear-model.md §6.4, A15).
 pub fn erosion_ratio(wall_density: f64, removed_volume: f64, particle_mass: f64) -> Result<f64> {
     positive("particle_mass", particle_mass)?;
@@ -353,6 +374,25 @@ mod tests {
     /// Garnet 1 mm: m = ρ π d³/6 with ρ = 2500 (A9: 1.3089969e-6 kg).
     fn garnet_mass() -> f64 {
         2500.0 * std::f64::consts::PI * 1e-9 / 6.0
+    }
+
+    /// The sliding rate is the grazing limit of the impact law per unit normal impulse: the
+    /// quotient W(U, θ)/((1 + e) m U sinθ) approaches it linearly in θ, with slope −1/(2K)
+    /// relative (f(θ)/(θ/K) = 1 − θ/(2K) + O(θ²)).
+    #[test]
+    fn sliding_rate_is_the_grazing_limit_of_the_impact_law() {
+        let (material, options) = (CARBON_STEEL_1018, ArabnejadOptions::default());
+        let (m, u, e) = (garnet_mass(), 10.0, 0.99);
+        let per_impulse = arabnejad_sliding_wear_rate(&material, e, 1.0, u).unwrap();
+        for theta in [1e-2, 1e-3, 1e-4] {
+            let w = arabnejad_wear(&material, &options, m, 2500.0, u, theta).unwrap().volume;
+            let quotient = w / ((1.0 + e) * m * u * theta.sin());
+            let relative = quotient / per_impulse - 1.0;
+            // the first-order term to its O(θ²) remainder
+            assert!((relative + theta / (2.0 * material.contact_ratio)).abs() < theta * theta, "θ {theta}: {relative:e}");
+        }
+        assert_eq!(arabnejad_sliding_wear_rate(&material, e, 0.0, u).unwrap(), 0.0);
+        assert!(arabnejad_sliding_wear_rate(&material, e, -1.0, u).is_err());
     }
 
     #[test]

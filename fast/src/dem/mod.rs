@@ -237,6 +237,7 @@ impl FastDem {
         let wall_context = WallContext {
             materials: &self.setup.materials,
             wet_fluid: self.setup.wet_fluid,
+            sliding_walls: &self.setup.sliding_walls,
             walls: &walls.walls,
             meshes: &self.wall_meshes.meshes,
             frames: &self.frames,
@@ -373,7 +374,7 @@ impl ParticlePhase for FastDem {
             totals = sub;
         }
         self.arrays.store(&mut particles.particles);
-        particles.counts.impacts += (impacts.len() - logged_before) as u64;
+        particles.counts.impacts += impacts[logged_before..].iter().filter(|i| !i.sliding).count() as u64;
         particles.impacts = impacts;
         self.budget.check(ctx, &particles.particles, totals.elastic, elastic_start, self.setup.section.collision_speed)?;
         self.fed_from = particles.next_id;

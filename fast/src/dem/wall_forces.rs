@@ -16,6 +16,7 @@ use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{ContactRecord, ImpactRecord, Partner};
 use spillage_model::walls::geometry::{ContactScratch, WallMesh};
 use spillage_model::walls::state::{Wall, WallFrame};
+use spillage_model::wear::sliding::sliding_impact;
 
 use super::arrays::ParticleArrays;
 
@@ -59,7 +60,8 @@ const STILL_WALL_REACH: f64 = 0.99 * 0.99;
 pub struct WallSide {
     /// The contact history with every wall, in the reference's order (wall, then contact).
     pub history: Vec<ContactRecord>,
-    /// Impacts of contacts that began at the last evaluation.
+    /// Impacts of contacts that began at the last evaluation (and sliding wear's equivalent
+    /// impacts).
     pub impacts: Vec<ImpactRecord>,
     pub power: f64,
     pub elastic: f64,
@@ -73,6 +75,8 @@ pub struct WallSide {
 pub struct WallContext<'a> {
     pub materials: &'a MaterialTable,
     pub wet_fluid: Option<(f64, f64)>,
+    /// Per wall: whether its contacts book sliding wear (`spillage_model::wear::sliding`).
+    pub sliding_walls: &'a [bool],
     pub walls: &'a [Wall],
     pub meshes: &'a [WallMesh],
     /// Each wall's frame at the end of the sub-step.
@@ -204,6 +208,10 @@ pub fn evaluate_walls(
                 let constants = context.materials.constants(arrays.material[k], wall.material, r, f64::INFINITY, arrays.mass[k], f64::INFINITY);
                 let f = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
                 record.normal = normal;
+                if context.sliding_walls[w] {
+                    let p = arrays.particle(k);
+                    side.impacts.extend(sliding_impact(&mut record, &p, w as u32, contact, body, wall_velocity, normal, f.normal, context.dt, context.time));
+                }
                 let elastic = 0.4 * f.normal.norm() * overlap;
                 side.elastic += elastic;
                 if new_contact && fed {

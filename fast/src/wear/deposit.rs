@@ -30,6 +30,8 @@ struct Booking {
     phi: [f64; 3],
     angle_bin: u8,
     speed_bin: u8,
+    /// Sliding wear's equivalent impact: deposits, but is not counted as an impact.
+    sliding: bool,
 }
 
 /// Work arrays of the deposit (sized once; the impact lists grow to the largest step seen).
@@ -61,7 +63,8 @@ impl DepositWork {
     }
 }
 
-/// Books the impacts on wall `w` (the others are skipped) and returns how many there were. The
+/// Books the impacts on wall `w` (the others are skipped) and returns how many there were
+/// (sliding wear's equivalent impacts deposit but do not count). The
 /// impact speed is the particle centre's speed relative to the wall surface and the angle is
 /// measured from the surface (§5.3): both taken at first touch by the DEM. An impact on a
 /// triangle the wall does not have is an error (an impact log of another mesh).
@@ -114,6 +117,7 @@ pub fn deposit(
             phi: barycentric_weights(a, b, c, impact.point),
             angle_bin: ((angle / std::f64::consts::FRAC_PI_2 * ANGLE_BINS as f64) as usize).min(ANGLE_BINS - 1) as u8,
             speed_bin: ((speed / max_speed * SPEED_BINS as f64) as usize).min(SPEED_BINS - 1) as u8,
+            sliding: impact.sliding,
         };
     });
     // the wall's totals in time order (a few additions per impact: not worth a thread)
@@ -121,6 +125,9 @@ pub fn deposit(
         w.law_cutting += b.cutting;
         w.law_deformation += b.deformation;
         w.deposited += b.volume;
+        if b.sliding {
+            w.sliding_deposited += b.volume;
+        }
     }
 
     // group by triangle, keeping time order within a triangle
@@ -158,17 +165,21 @@ pub fn deposit(
             // shares) are written by this task only; the arrays were sized in `FastWear::new`
             unsafe {
                 let mut v = *volume.ptr(t);
+                let mut impacts = 0;
                 for &k in mine {
                     let b = &bookings[k as usize];
                     v += b.volume;
-                    *angles.ptr(t * ANGLE_BINS + b.angle_bin as usize) += 1;
-                    *speeds.ptr(t * SPEED_BINS + b.speed_bin as usize) += 1;
+                    if !b.sliding {
+                        *angles.ptr(t * ANGLE_BINS + b.angle_bin as usize) += 1;
+                        *speeds.ptr(t * SPEED_BINS + b.speed_bin as usize) += 1;
+                        impacts += 1;
+                    }
                     for (s, phi) in shares.iter_mut().zip(b.phi) {
                         *s += b.volume * phi;
                     }
                 }
                 volume.set(t, v);
-                *count.ptr(t) += mine.len() as u64;
+                *count.ptr(t) += impacts;
             }
         }
         // SAFETY: as above
@@ -176,5 +187,5 @@ pub fn deposit(
     });
     let corner = &*corner;
     par_update(node_volume, |j, v| *v = topology.corners(j).iter().map(|&c| corner[c as usize / 3][c as usize % 3]).sum());
-    Ok(mine.len() as u64)
+    Ok(bookings.iter().filter(|b| !b.sliding).count() as u64)
 }

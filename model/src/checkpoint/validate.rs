@@ -158,7 +158,7 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
             if w.wall >= n_walls {
                 return Err(format!("the wear of wall `{}` names wall {}, but there are {n_walls} walls", w.name, w.wall));
             }
-            let scalars = [w.material_side, w.deposited, w.law_cutting, w.law_deformation, w.receded, w.pending, w.initial_volume];
+            let scalars = [w.material_side, w.deposited, w.law_cutting, w.law_deformation, w.sliding_deposited, w.receded, w.pending, w.initial_volume];
             if !(scalars.iter().chain(&w.volume_origin).chain(&w.triangle_volume).chain(&w.node_rate).chain(&w.node_depth).all(|x| x.is_finite())) {
                 return Err(format!("the wear of wall `{}` holds a non-finite value", w.name));
             }

@@ -150,6 +150,8 @@ mod tests {
             approach_speed: 1.0,
             normal: Vec3::x(),
             start_time: 0.0,
+            restitution: 0.5,
+            normal_impulse: 0.0,
         };
         let mut state = ParticleState {
             particles: vec![particle(0, 0.0), particle(1, 2.0), particle(2, 0.5)],

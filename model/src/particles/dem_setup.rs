@@ -21,6 +21,8 @@ pub struct DemSetup {
     pub forces: NonContactForces,
     /// Fluid density and viscosity for the wet restitution (T3.103), if wet.
     pub wet_fluid: Option<(f64, f64)>,
+    /// Per wall: whether its contacts book sliding wear (`crate::wear::sliding`).
+    pub sliding_walls: Vec<bool>,
 }
 
 impl DemSetup {
@@ -50,7 +52,8 @@ impl DemSetup {
             feedback: case.coupling.as_ref().map(|c| c.feedback),
             motion: section.motion,
         };
-        Ok(Self { section, materials, forces, wet_fluid })
+        let sliding_walls = crate::wear::setup::sliding_walls(case, state.walls.as_ref().expect("built above"))?;
+        Ok(Self { section, materials, forces, wet_fluid, sliding_walls })
     }
 }
 

@@ -4,6 +4,7 @@
 
 use super::materials::MaterialTable;
 use super::state::{ContactRecord, ImpactRecord, Particle, Partner, Vec3};
+use crate::closure::contact::damping_ratio;
 use crate::walls::geometry::MeshContact;
 
 /// The record of a pair contact at first touch, kept under `a` (the smaller id); `v_rel` is the
@@ -23,14 +24,17 @@ pub fn pair_record(
     // diameter; both reduce to the particle's own for identical spheres.
     let density = 0.5 * (a.density + b.density);
     let diameter = 2.0 * a.diameter * b.diameter / (a.diameter + b.diameter);
+    let restitution = materials.first_touch_restitution(a.material, b.material, wet_fluid, approach, density, diameter);
     ContactRecord {
         particle: a.id,
         partner: Partner::Particle(b.id),
         tangential_overlap: Vec3::zeros(),
-        damping_ratio: materials.first_touch_damping_ratio(a.material, b.material, wet_fluid, approach, density, diameter),
+        damping_ratio: damping_ratio(restitution),
         approach_speed: approach,
         normal,
         start_time: time,
+        restitution,
+        normal_impulse: 0.0,
     }
 }
 
@@ -47,14 +51,17 @@ pub fn wall_record(
     time: f64,
 ) -> ContactRecord {
     let approach = v_rel.dot(&normal);
+    let restitution = materials.first_touch_restitution(p.material, wall_material, wet_fluid, approach, p.density, p.diameter);
     ContactRecord {
         particle: p.id,
         partner: Partner::Wall(wall),
         tangential_overlap: Vec3::zeros(),
-        damping_ratio: materials.first_touch_damping_ratio(p.material, wall_material, wet_fluid, approach, p.density, p.diameter),
+        damping_ratio: damping_ratio(restitution),
         approach_speed: approach,
         normal,
         start_time: time,
+        restitution,
+        normal_impulse: 0.0,
     }
 }
 
@@ -78,6 +85,7 @@ pub fn impact(p: &Particle, wall: u32, contact: &MeshContact, body_centre: Vec3,
         density: p.density,
         point: contact.point,
         normal: (contact.point - body_centre) / contact.distance,
+        sliding: false,
     }
 }
 

@@ -1,7 +1,6 @@
 //! Contact constants of every material pair, resolved once from `[[particles.materials]]`.
 
 use super::settings::MaterialSection;
-use crate::closure::contact::damping_ratio;
 use crate::closure::contact::{effective_shear_modulus, effective_youngs_modulus, harmonic, normal_stiffness, tangential_stiffness, PairConstants, SlipTest};
 use crate::closure::restitution::{stokes_number, wet_restitution};
 
@@ -61,9 +60,10 @@ impl MaterialTable {
         }
     }
 
-    /// α_η of a new contact (§7.8 step 3): ε_wet from St_AM at first touch when `wet_fluid`
-    /// (ρ_f, ν) is given (T3.103–104), else ε_dry; then (T3.101).
-    pub fn first_touch_damping_ratio(
+    /// The restitution of a new contact (§7.8 step 3): ε_wet from St_AM at first touch when
+    /// `wet_fluid` (ρ_f, ν) is given (T3.103–104), else ε_dry. Its damping ratio α_η is
+    /// [`crate::closure::contact::damping_ratio`] of it (T3.101).
+    pub fn first_touch_restitution(
         &self,
         material_i: usize,
         material_j: usize,
@@ -73,11 +73,10 @@ impl MaterialTable {
         diameter: f64,
     ) -> f64 {
         let dry = self.pairs[material_i][material_j].dry_restitution;
-        let restitution = match wet_fluid {
+        match wet_fluid {
             Some((rho_f, nu)) => wet_restitution(dry, stokes_number(density, rho_f, approach_speed.max(0.0), diameter, nu)),
             None => dry,
-        };
-        damping_ratio(restitution)
+        }
     }
 
     /// The largest E* of any pair (for the worst-case collision time, §7.6).

@@ -75,6 +75,13 @@ pub struct ContactRecord {
     pub normal: Vec3,
     /// Time of first touch [s].
     pub start_time: f64,
+    /// Restitution of the contact, fixed at first touch (ε_dry, or ε_wet of the approach).
+    #[serde(default)]
+    pub restitution: f64,
+    /// Compressive normal impulse ∫|F_n| dt since first touch [N s], kept on the walls whose
+    /// sliding wear is on (`crate::wear::sliding`), else 0.
+    #[serde(default)]
+    pub normal_impulse: f64,
 }
 
 /// One particle–wall impact (first touch of a contact), for the wear model.
@@ -99,6 +106,10 @@ pub struct ImpactRecord {
     /// wall's body frame (where wear is deposited and the wall recedes).
     pub point: Vec3,
     pub normal: Vec3,
+    /// Not an impact but a sustained contact's normal impulse beyond its collision's, as the
+    /// equivalent grazing impact (`crate::wear::sliding`): not counted as an impact.
+    #[serde(default)]
+    pub sliding: bool,
 }
 
 /// Particle bookkeeping: created = particles.len() + exits.len(), always.

@@ -9,6 +9,7 @@ pub mod profile;
 pub mod recession;
 pub mod settings;
 pub mod setup;
+pub mod sliding;
 pub mod state;
 pub mod surface;
 #[cfg(test)]

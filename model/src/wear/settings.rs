@@ -91,6 +91,11 @@ pub struct WearSection {
     /// Damped diffusive smoothing of the wear field (wear-model.md §7.2–7.3). Without it each
     /// impact's volume recedes at once from the three vertices of the triangle hit.
     pub smoothing: Option<SmoothingSection>,
+    /// Sliding wear (`super::sliding`, wear-model.md §14 item 12): a contact's normal impulse
+    /// beyond its collision's wears as the thesis' point particles' grazing re-collisions would.
+    /// Off by default: the impacts alone.
+    #[serde(default)]
+    pub sliding: bool,
     /// Whether the eroding walls recede (move their vertices); `false` is the thesis'
     /// static-boundary mode (§7.4): the wear field is still computed.
     #[serde(default = "yes")]

@@ -4,11 +4,12 @@
 //! restart's wear state belongs to the case.
 
 use super::laws::ErosionLaw;
+use super::settings::WearSection;
 use super::state::{WallWear, WearState, ANGLE_BINS, SPEED_BINS};
 use super::surface::WearSurface;
 use crate::case::Case;
 use crate::state::State;
-use crate::walls::state::Vec3;
+use crate::walls::state::{Vec3, WallState};
 
 /// The case's wear constants and surfaces.
 pub struct WearSetup {
@@ -27,6 +28,29 @@ fn fail(what: impl Into<String>) -> String {
     what.into()
 }
 
+/// Indices of the walls `[wear] walls` names (all of them when it names none).
+pub fn eroding_walls(section: &WearSection, walls: &WallState) -> Result<Vec<usize>, String> {
+    if section.walls.is_empty() {
+        return Ok((0..walls.walls.len()).collect());
+    }
+    section
+        .walls
+        .iter()
+        .map(|name| walls.walls.iter().position(|w| &w.name == name).ok_or_else(|| fail(format!("[wear] walls: no wall named {name:?}"))))
+        .collect()
+}
+
+/// Per wall: whether its contacts book sliding wear (`[wear] sliding` on an eroding wall).
+pub fn sliding_walls(case: &Case, walls: &WallState) -> Result<Vec<bool>, String> {
+    let mut sliding = vec![false; walls.walls.len()];
+    if let Some(section) = case.wear.as_ref().filter(|w| w.sliding) {
+        for i in eroding_walls(section, walls)? {
+            sliding[i] = true;
+        }
+    }
+    Ok(sliding)
+}
+
 impl WearSetup {
     /// Resolves `case`; a missing wear state in `state` starts from unworn walls (the walls
     /// must be there: set up the particle phase first). Errors are sentences.
@@ -34,16 +58,7 @@ impl WearSetup {
         let section = case.wear.as_ref().ok_or_else(|| fail("the wear phase needs a [wear] section"))?;
         let law = ErosionLaw::from_section(section).map_err(|e| fail(format!("[wear]: key `{}` = {}: expected {}", e.key, e.value, e.allowed)))?;
         let walls = state.walls.as_ref().ok_or_else(|| fail("the wear phase needs the walls (set up the particle phase first)"))?;
-        let eroding: Vec<usize> = if section.walls.is_empty() {
-            (0..walls.walls.len()).collect()
-        } else {
-            let mut found = Vec::new();
-            for name in &section.walls {
-                let i = walls.walls.iter().position(|w| &w.name == name).ok_or_else(|| fail(format!("[wear] walls: no wall named {name:?}")))?;
-                found.push(i);
-            }
-            found
-        };
+        let eroding = eroding_walls(section, walls)?;
         // the surfaces are built on the walls' unworn shape, rebuilt from the case: a restart
         // (whose walls are worn) gets the same operators bit for bit (and the same as the
         // reference phase's)

@@ -39,6 +39,9 @@ pub struct WallWear {
     pub deposited: f64,
     pub law_cutting: f64,
     pub law_deformation: f64,
+    /// The part of `deposited` that sliding wear booked (`super::sliding`) [m³].
+    #[serde(default)]
+    pub sliding_deposited: f64,
     pub receded: f64,
     /// Volume deposited but not yet receded because it fell only on pinned rim nodes [m³].
     pub pending: f64,

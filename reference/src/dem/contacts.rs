@@ -10,6 +10,7 @@ use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{ContactRecord, ImpactRecord, Particle, Partner};
 use spillage_model::walls::geometry::WallMesh;
 use spillage_model::walls::state::Wall;
+use spillage_model::wear::sliding::sliding_impact;
 
 use super::neighbours::overlapping_pairs;
 
@@ -36,6 +37,8 @@ pub struct Context<'a> {
     pub meshes: &'a [WallMesh],
     /// (ρ_f, ν) for the wet restitution law, if wet.
     pub wet_fluid: Option<(f64, f64)>,
+    /// Per wall: whether its contacts book sliding wear (`spillage_model::wear::sliding`).
+    pub sliding_walls: &'a [bool],
     /// Time at the end of the sub-step [s] (stamps new contacts and impacts).
     pub time: f64,
     pub dt: f64,
@@ -61,7 +64,8 @@ pub struct Watch {
 
 /// Evaluates every contact: sets each particle's contact force, torque and count, updates the
 /// history (new records at first touch, records of ended contacts dropped) and appends the
-/// impacts of new wall contacts. Returns the contact samples.
+/// impacts of new wall contacts (and, on sliding-wear walls, the equivalent impacts of sustained
+/// contacts). Returns the contact samples.
 pub fn evaluate(
     context: &Context,
     particles: &mut [Particle],
@@ -155,6 +159,10 @@ pub fn evaluate(
                 let constants = context.materials.constants(p.material, wall.material, p.radius(), f64::INFINITY, p.mass(), f64::INFINITY);
                 let force = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
                 record.normal = normal;
+                if context.sliding_walls[w] {
+                    let body = wall.to_body(p.position);
+                    impacts.extend(sliding_impact(&mut record, p, w as u32, &contact, body, wall_velocity, normal, force.normal, context.dt, context.time));
+                }
                 let elastic = 0.4 * force.normal.norm() * overlap;
                 watch.elastic_energy += elastic;
                 if new_contact && fed {

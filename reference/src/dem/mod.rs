@@ -39,6 +39,8 @@ pub struct ReferenceDem {
     wall_meshes: WallMeshes,
     /// Fluid density and viscosity for the wet restitution (T3.103), if wet.
     wet_fluid: Option<(f64, f64)>,
+    /// Per wall: whether its contacts book sliding wear.
+    sliding_walls: Vec<bool>,
     /// The load being summed over the sub-steps of a step (time integrals, divided by Δt at
     /// the end of the step).
     load: ParticleLoad,
@@ -65,12 +67,13 @@ impl ReferenceDem {
     /// Sets up the DEM for `case`; missing particle or wall states in `state` are built from the
     /// case (walls with STL paths relative to the case file's folder).
     pub fn new(case: &Case, state: &mut State) -> Result<Self, SolverError> {
-        let DemSetup { section, materials, forces, wet_fluid } = DemSetup::new(case, state).map_err(unsupported)?;
+        let DemSetup { section, materials, forces, wet_fluid, sliding_walls } = DemSetup::new(case, state).map_err(unsupported)?;
         let walls = state.walls.as_ref().expect("the setup builds the walls");
         let wall_meshes = WallMeshes::new(walls).map_err(unsupported)?;
         Ok(Self {
             wall_meshes,
             wet_fluid,
+            sliding_walls,
             forces,
             load: ParticleLoad::default(),
             history: BTreeMap::new(),
@@ -181,6 +184,7 @@ impl ReferenceDem {
             walls: &walls.walls,
             meshes: &self.wall_meshes.meshes,
             wet_fluid: self.wet_fluid,
+            sliding_walls: &self.sliding_walls,
             time,
             dt,
             fed_from: self.fed_from,
@@ -188,7 +192,7 @@ impl ReferenceDem {
         self.samples = contacts::evaluate(&context, &mut particles.particles, &mut self.history, &mut impacts, &mut self.watch);
         self.budget.walls += dt * self.watch.wall_power;
         self.budget.placed += self.watch.new_contact_energy;
-        particles.counts.impacts += impacts.len() as u64;
+        particles.counts.impacts += impacts.iter().filter(|i| !i.sliding).count() as u64;
         particles.impacts.extend(impacts);
     }
 }

@@ -35,14 +35,19 @@ pub fn deposit(law: &ErosionLaw, scale: f64, max_speed: f64, surface: &WearSurfa
         w.law_deformation += removed.deformation;
         w.deposited += volume;
         w.triangle_volume[t] += volume;
+        for (n, phi) in surface.triangles[t].iter().zip(barycentric_weights(a, b, c, impact.point)) {
+            booked.node_volume[*n as usize] += volume * phi;
+        }
+        if impact.sliding {
+            // sliding wear's equivalent impact (`spillage_model::wear::sliding`): not an impact
+            w.sliding_deposited += volume;
+            continue;
+        }
         w.triangle_impacts[t] += 1;
         let angle_bin = ((angle / std::f64::consts::FRAC_PI_2 * ANGLE_BINS as f64) as usize).min(ANGLE_BINS - 1);
         let speed_bin = ((speed / max_speed * SPEED_BINS as f64) as usize).min(SPEED_BINS - 1);
         w.angle_histogram[t * ANGLE_BINS + angle_bin] += 1;
         w.speed_histogram[t * SPEED_BINS + speed_bin] += 1;
-        for (n, phi) in surface.triangles[t].iter().zip(barycentric_weights(a, b, c, impact.point)) {
-            booked.node_volume[*n as usize] += volume * phi;
-        }
         booked.impacts += 1;
     }
     booked
