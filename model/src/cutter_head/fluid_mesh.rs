@@ -165,6 +165,28 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn a_small_hub_opens_the_bottom_of_the_head_to_the_water_below() {
+        let mut section = section(0.05);
+        let head = CutterHead::new(&section);
+        // internal faces in the plane of the hub's underside, within the contour: the water
+        // under the hub meets the water in the head only where the hub plate is not
+        let through_the_bottom = |mesh: &Mesh| {
+            (0..mesh.n_internal_faces)
+                .filter(|&f| {
+                    let c = mesh.face_centres[f];
+                    (c.z - head.hub_bottom()).abs() < 1e-9 && c.x.hypot(c.y) < head.radius_at(-head.height())
+                })
+                .count()
+        };
+        assert_eq!(through_the_bottom(&build(&section).unwrap()), 0);
+        section.hub_radius = Some(0.13);
+        let mesh = build(&section).unwrap();
+        assert_cells_closed(&mesh);
+        assert_internal_faces_oriented(&mesh);
+        assert!(through_the_bottom(&mesh) > 0);
+    }
+
+    #[test]
     fn the_blocked_cells_are_the_solids_and_converge_to_their_volume() {
         // the staircase over-covers thin solids by up to a cell on each side, so its volume
         // falls toward the true one as the cells shrink

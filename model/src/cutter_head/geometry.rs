@@ -40,6 +40,8 @@ pub struct CutterHead {
     pub opening_radius: f64,
     pub ring_thickness: f64,
     pub hub_thickness: f64,
+    /// Outer radius of the hub plate (R(H) unless the case makes it smaller).
+    pub hub_radius: f64,
     pub shaft_radius: f64,
     pub pipe_length: f64,
     pub pipe_wall: f64,
@@ -63,6 +65,7 @@ impl CutterHead {
             opening_radius: section.opening_radius(),
             ring_thickness: section.ring_thickness,
             hub_thickness: section.hub_thickness,
+            hub_radius: section.hub_radius.unwrap_or(section.contour.last().expect("≥ 2 points")[1]),
             shaft_radius: section.shaft_radius,
             pipe_length: section.pipe_length,
             pipe_wall: section.pipe_wall,
@@ -137,7 +140,7 @@ impl CutterHead {
     pub fn plates(&self) -> [(Part, [f64; 2], [f64; 2]); 3] {
         let h = self.height();
         [
-            (Part::Hub, [self.shaft_radius, self.radius_at(-h)], [self.hub_bottom(), -h]),
+            (Part::Hub, [self.shaft_radius, self.hub_radius], [self.hub_bottom(), -h]),
             (Part::Ring, [self.opening_radius, self.radius_at(0.0)], [0.0, self.ring_top()]),
             (Part::Pipe, [self.opening_radius, self.opening_radius + self.pipe_wall], [self.ring_top(), self.pipe_top()]),
         ]
@@ -285,6 +288,22 @@ pub(crate) mod tests {
         assert_eq!(head.touches_solid([0.5, 0.51], [0.0, 0.1], [-0.2, -0.19]), None);
         assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() - 0.1, head.hub_bottom() - 0.05]), None);
         assert_eq!(head.touches_solid([0.1, 0.11], [0.0, 0.1], [head.hub_bottom() + 0.001, head.hub_bottom() + 0.002]), Some(Part::Hub));
+    }
+
+    #[test]
+    fn a_small_hub_leaves_the_bottom_open_between_the_hub_and_the_contour() {
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../cases/cutter_head.toml")).unwrap();
+        let bad = text.replace("hub_thickness = 0.03", "hub_thickness = 0.03\nhub_radius = 0.3");
+        let error = crate::case::Case::from_toml(&bad, std::path::Path::new("cutter_head.toml")).unwrap_err().to_string();
+        assert!(error.contains("cutter_head.hub_radius") && error.contains("0.3") && error.contains("R(H) = 0.25"), "{error}");
+        let open = text.replace("hub_thickness = 0.03", "hub_thickness = 0.03\nhub_radius = 0.13");
+        let case = crate::case::Case::from_toml(&open, std::path::Path::new("cutter_head.toml")).unwrap();
+        let (closed, open) = (head(), CutterHead::new(case.cutter_head.as_ref().unwrap()));
+        let plate = |head: &CutterHead, r: f64| head.touches_solid([r, r + 0.005], [1.0, 1.01], [head.hub_bottom() + 0.001, head.hub_bottom() + 0.002]);
+        assert_eq!((plate(&closed, 0.1), plate(&closed, 0.2)), (Some(Part::Hub), Some(Part::Hub)));
+        assert_eq!((plate(&open, 0.1), plate(&open, 0.2)), (Some(Part::Hub), None));
+        // a rock that falls through the opening has left the hull
+        assert!(open.inside_hull(0.2, -open.height() + 0.01) && !open.inside_hull(0.2, -open.height() - 0.01));
     }
 
     #[test]

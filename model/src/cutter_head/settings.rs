@@ -32,6 +32,13 @@ pub struct CutterHeadSection {
     pub ring_thickness: f64,
     /// Axial thickness of the hub plate under z = −H [m].
     pub hub_thickness: f64,
+    /// Outer radius of the hub plate [m] (default: the contour's radius at the hub, R(H), a
+    /// closed bottom). A smaller hub leaves the bottom open between the hub and the blades' outer
+    /// edges, as on a real cutter head whose blades converge on a small hub: water is drawn in
+    /// there (the axial pump of spec §2.4) and rock that falls through has left the contour
+    /// hull, so it counts as spilled.
+    #[serde(default)]
+    pub hub_radius: Option<f64>,
     /// Radius of the rotating shaft on the axis [m] (the mesh cannot contain the axis).
     pub shaft_radius: f64,
     /// How the mixture leaves: through the whole inner ring area, or through a central mouth
@@ -204,6 +211,15 @@ impl CutterHeadSection {
                 format!("(hub radius {hub_radius} m)"),
                 format!("a hub radius above shaft_radius = {} m", self.shaft_radius),
             ));
+        }
+        if let Some(r) = self.hub_radius {
+            if !(r > self.shaft_radius && r <= hub_radius) {
+                return Err(FieldError::new(
+                    key("hub_radius"),
+                    r,
+                    format!("a radius above shaft_radius = {} m and at most the contour's radius at the hub, R(H) = {hub_radius} m", self.shaft_radius),
+                ));
+            }
         }
         positive(&key("tank.radius"), self.tank.radius, "m")?;
         positive(&key("tank.below_hub"), self.tank.below_hub, "m")?;
