@@ -51,6 +51,7 @@ impl DemSetup {
             rotating_frame: RotatingFrame::of_physics(&case.physics).map_err(|e| format!("`{}` = {}: expected {}", e.key, e.value, e.allowed))?,
             feedback: case.coupling.as_ref().map(|c| c.feedback),
             motion: section.motion,
+            fluid_forces: section.fluid_forces,
         };
         let sliding_walls = crate::wear::setup::sliding_walls(case, state.walls.as_ref().expect("built above"))?;
         Ok(Self { section, materials, forces, wet_fluid, sliding_walls })

@@ -2,9 +2,10 @@
 //! fluid-force update of one particle (fluid-dem-model.md §5.10), gravity, the rotating frame's
 //! fictitious forces (wear-model.md §2.6 [R]), and what the fluid receives in return (§8.4).
 
-use super::settings::Motion;
+use super::settings::{FluidForces, Motion};
 use super::state::Vec3;
 use crate::closure::drag::{fluid_force_step, held_fluid_force, DragLaw, FluidAtParticle};
+use crate::closure::drag_and_buoyancy::drag_and_buoyancy_step;
 use crate::closure::rotating_frame::{dry_particle_update, fluid_force_step_in_rotating_frame, RotatingFrame};
 use crate::coupling::Feedback;
 use crate::step::ParticleLoad;
@@ -20,6 +21,8 @@ pub struct NonContactForces {
     pub feedback: Option<Feedback>,
     /// `[particles] motion`: held particles keep their velocity ([`Motion::Held`]).
     pub motion: Motion,
+    /// `[particles] fluid_forces`: the full set or the wear model's drag and buoyancy.
+    pub fluid_forces: FluidForces,
 }
 
 /// A particle's share of the step's load from one update of length `dt`, as time integrals
@@ -68,7 +71,16 @@ impl NonContactForces {
             return (velocity, None);
         };
         let step = match &self.rotating_frame {
-            _ if self.motion == Motion::Held => held_fluid_force(self.drag_law, velocity, diameter, fluid),
+            _ if self.motion == Motion::Held => {
+                let mut held = held_fluid_force(self.drag_law, velocity, diameter, fluid);
+                if self.fluid_forces == FluidForces::DragAndBuoyancy {
+                    held.fluid_acceleration_force = Vec3::zeros();
+                }
+                held
+            }
+            frame if self.fluid_forces == FluidForces::DragAndBuoyancy => {
+                drag_and_buoyancy_step(frame.as_ref(), self.drag_law, velocity, position, diameter, density, fluid, self.gravity, dt)
+            }
             None => fluid_force_step(self.drag_law, velocity, diameter, density, fluid, self.gravity, dt),
             Some(frame) => fluid_force_step_in_rotating_frame(frame, self.drag_law, velocity, position, diameter, density, fluid, self.gravity, dt),
         };

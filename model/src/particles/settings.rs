@@ -43,6 +43,26 @@ pub struct ParticlesSection {
     /// (the default) or `"dry"`.
     #[serde(default)]
     pub restitution: Restitution,
+    /// Which fluid forces act on a particle ([`FluidForces`]): `"full"` (the default) or
+    /// `"drag_and_buoyancy"`.
+    #[serde(default)]
+    pub fluid_forces: FluidForces,
+}
+
+/// `[particles] fluid_forces`: the particle equation's fluid forces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FluidForces {
+    /// Drag, added mass (C_AM 0.5), the pressure-gradient (fluid-acceleration) force, gravity
+    /// with buoyancy (fluid-dem-model.md §5), and in a turning frame the fictitious forces with
+    /// the pressure gradient's share of them (wear-model.md §2.6 [R], first form).
+    #[default]
+    Full,
+    /// The wear model's representative particle (wear-model.md Eqs. 2.11 and 5.3, §2.6 [R]
+    /// second form): drag and buoyancy-reduced gravity and centrifugal force, the whole
+    /// Coriolis force, no added mass and no pressure-gradient force
+    /// (`crate::closure::drag_and_buoyancy`).
+    DragAndBuoyancy,
 }
 
 /// `[particles] restitution`: whether the surrounding fluid lowers the restitution.

@@ -22,8 +22,9 @@
 //! wore for; what it delivers beyond that is booked, sub-step by sub-step, as one equivalent
 //! grazing impact per sub-step: normal speed ΔJ / ((1 + e)·m), the particle centre's
 //! tangential speed relative to the wall (§5.3's U, as for impacts), on the triangle touched.
-//! Its angle is ΔJ/((1 + e)·m·U), small at any sub-step (1e-4 rad for 0.1 mm sand pressed at
-//! 7·10³ m/s² and sliding at 10 m/s), so the law stays on its linear branch: the wear per
+//! Its angle is ΔJ/((1 + e)·m·U), small at any sub-step (3e-5 rad for sand pressed at
+//! 7·10³ m/s² and sliding at 10 m/s in the Coriolis case's 8·10⁻⁸ s sub-steps), so the law
+//! stays on its linear branch: the wear per
 //! impulse is the limit above to O(θ²) for every law whose angle function has a finite slope
 //! at 0 (all but Oka with an exponent n₁ < 1, whose booked wear then depends on the sub-step).
 //! A particle at rest on a wall books head-on "impacts" far below any threshold speed: no wear.
