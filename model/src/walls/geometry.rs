@@ -250,11 +250,15 @@ impl WallMesh {
                 continue;
             }
             if !candidate.on_face {
-                // Earlier candidates are never farther. No distance margin here: beside an edge the
-                // distance difference is only second order in the offset from it.
-                let continues = candidates[..k].iter().any(|nearer| {
-                    nearer.contact.triangle != candidate.contact.triangle && {
-                        let t = self.trimesh.triangle(nearer.contact.triangle);
+                // A triangle that contains p is never farther than p, so its own closest point is
+                // nearer or, beside an edge, equally near to round-off: the distance differs
+                // only to second order in the offset from the edge, which at 1e-12 of the radius
+                // is below the distances' last bit. So any other candidate triangle through p,
+                // whatever the sort put first, continues the surface, unless its own closest
+                // point is p itself (both sides of a convex edge, kept once above).
+                let continues = candidates.iter().enumerate().any(|(j, other)| {
+                    j != k && other.contact.triangle != candidate.contact.triangle && (other.contact.point - p).norm() > same_point && {
+                        let t = self.trimesh.triangle(other.contact.triangle);
                         let (proj, _) = t.project_local_point_and_get_location(to_glam(p), false);
                         (from_glam(proj.point) - p).norm() <= same_point
                     }
@@ -312,6 +316,21 @@ mod tests {
             let contacts = plane.sphere_contacts(Vec3::new(x, y, 0.04), 0.05);
             assert_eq!(contacts.len(), 1, "at ({x}, {y})");
             assert!((contacts[0].distance - 0.04).abs() < 1e-14);
+        }
+    }
+
+    /// A small sphere sliding along the line where two rows of triangles meet, 1e-12 of its
+    /// radius off it (drift of round-off): the edge point of the row it is not over and the face
+    /// point of the row it is over are equally far to the distances' last bit, and the edge
+    /// point sorted first (lower triangle id) was kept as a second contact, doubling the force.
+    #[test]
+    fn one_contact_a_hair_beside_an_edge_whatever_the_sort() {
+        let plane = mesh(&plane(Vec3::zeros(), Vec3::z(), [0.2, 0.02], [20, 2], None));
+        for y in [-1.7e-12, -1e-13, 0.0, 1e-13, 1.7e-12, 1e-9] {
+            for x in [0.004, 0.0041, 0.006, 0.0087] {
+                let contacts = plane.sphere_contacts(Vec3::new(x, y, 9.978e-4), 1e-3);
+                assert_eq!(contacts.len(), 1, "at ({x}, {y}): {contacts:?}");
+            }
         }
     }
 
