@@ -132,7 +132,8 @@ pub fn evaluate(
         for (w, (wall, mesh)) in context.walls.iter().zip(context.meshes).enumerate() {
             let key = (p.id, Partner::Wall(w as u32));
             let mut previous = old.remove(&key).unwrap_or_default();
-            let found = mesh.sphere_contacts(wall.to_body(p.position), p.radius());
+            let body = wall.to_body(p.position);
+            let found = mesh.sphere_contacts(body, p.radius());
             for contact in found {
                 let point = wall.to_world(contact.point);
                 let overlap = p.radius() - contact.distance;
@@ -152,7 +153,7 @@ pub fn evaluate(
                 let mut record = match matched {
                     Some(k) => previous.remove(k),
                     None => {
-                        impacts.push(impact(p, w as u32, &contact, wall.to_body(p.position), wall_velocity, normal, context.time));
+                        impacts.push(impact(p, w as u32, &contact, body, wall_velocity, normal, context.time));
                         wall_record(context.materials, context.wet_fluid, p, w as u32, wall.material, normal, v_rel, context.time)
                     }
                 };
@@ -160,7 +161,6 @@ pub fn evaluate(
                 let force = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
                 record.normal = normal;
                 if context.sliding_walls[w] {
-                    let body = wall.to_body(p.position);
                     impacts.extend(sliding_impact(&mut record, p, w as u32, &contact, body, wall_velocity, normal, force.normal, context.dt, context.time));
                 }
                 let elastic = 0.4 * force.normal.norm() * overlap;
