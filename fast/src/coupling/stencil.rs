@@ -11,7 +11,8 @@
 //! most of the work; the candidate cells are put in order by marking them in a bitmap and
 //! reading it back over their index range, in place of a sort; the one-point test is taken once
 //! for the mesh's widest cell rather than per cell when that cell takes one point already; a
-//! mesh that stands still has its cell quadratures tabulated ([`QuadratureTable`]); and no
+//! mesh that stands still has its cell quadratures tabulated ([`QuadratureTable`]), one that
+//! moves makes each once per build ([`BuildQuadratures`]); and no
 //! stencil allocates once its storage has grown. The ghost's wall face is found among the faces
 //! near the particle ([`WallGrid`]) rather than all of them.
 
@@ -24,7 +25,7 @@ use spillage_model::coupling::kernel::{KernelGeometry, KernelShapes, Stencil};
 use spillage_model::coupling::mapping::host_cell;
 use spillage_model::coupling::{BuilderMemory, Weights};
 
-use super::quadrature::QuadratureTable;
+use super::quadrature::{BuildQuadratures, QuadratureTable};
 use super::walls::WallGrid;
 use spillage_model::mesh::Vec3;
 use spillage_model::particles::Particle;
@@ -47,6 +48,7 @@ thread_local! {
 #[derive(Default)]
 struct Memory {
     quadrature: QuadratureTable,
+    this_build: BuildQuadratures,
 }
 
 /// How a build integrates the kernels over the cells.
@@ -55,8 +57,9 @@ struct Rules<'a> {
     /// has every cell take one point (the count is monotone in the span,
     /// [`cell_quadrature::takes_one_point`]).
     widest_span: Option<f64>,
-    /// The tabulated quadratures of this build's width, if any.
+    /// The tabulated quadratures of this build's width, if any; else those made in this build.
     table: Option<&'a QuadratureTable>,
+    this_build: Option<&'a BuildQuadratures>,
     /// The wall faces that mirror ghosts, binned.
     walls: WallGrid,
 }
@@ -70,16 +73,19 @@ pub fn stencils_in_parallel(geo: &KernelGeometry, particles: &[Particle], gamma:
     let widest_span = (0..geo.mesh.n_cells()).map(|c| geo.search.span(c)).try_fold(0.0f64, |a, s| s.is_finite().then(|| a.max(s))).filter(|_| spans_apply);
     // one width for all (the usual monodisperse cloud) that some cell integrates: the table
     let width = particles.first().map(|p| gamma * p.diameter).filter(|&w| particles.iter().all(|p| gamma * p.diameter == w));
-    let table = match width.filter(|&w| !widest_span.is_some_and(|s| cell_quadrature::takes_one_point(s, w))) {
+    let (table, this_build) = match width.filter(|&w| !widest_span.is_some_and(|s| cell_quadrature::takes_one_point(s, w))) {
         Some(w) => {
             let memory = memory.get_or_insert_with(|| Box::new(Memory::default()));
-            let memory = memory.downcast_mut::<Memory>().expect("the fast builder's memory");
-            memory.quadrature.prepare(geo.mesh, w, geo.empty_normal.as_ref())
+            let Memory { quadrature, this_build } = memory.downcast_mut::<Memory>().expect("the fast builder's memory");
+            match quadrature.prepare(geo.mesh, w, geo.empty_normal.as_ref()) {
+                Some(table) => (Some(table), None),
+                None => (None, Some(&*this_build.start(geo.mesh, w, geo.empty_normal.as_ref()))),
+            }
         }
-        None => None,
+        None => (None, None),
     };
     let largest_support = particles.iter().map(|p| 3.0 * gamma * p.diameter).fold(0.0, f64::max);
-    let rules = Rules { widest_span, table, walls: WallGrid::new(geo.mesh, geo.wall_faces, largest_support) };
+    let rules = Rules { widest_span, table, this_build, walls: WallGrid::new(geo.mesh, geo.wall_faces, largest_support) };
     out.par_iter_mut().zip(particles.par_iter()).with_min_len(32).for_each(|(s, p)| {
         let host = host_cell(geo.mesh, &p.position);
         SCRATCH.with_borrow_mut(|scratch| build(geo, &rules, &p.position, p.diameter, gamma, host, weights, scratch, s));
@@ -272,6 +278,7 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
     let exact_kernels = |point: &Vec3| exact_shapes.around(point, &x, ghost.as_ref());
     let spans_apply = geo.search.empty_normal() == geo.empty_normal;
     let table = rules.table.filter(|t| t.width() == sigma);
+    let this_build = rules.this_build.filter(|t| t.width() == sigma);
     for &c in &scratch.cells {
         if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
             continue;
@@ -281,6 +288,8 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
             (phi * mesh.cell_volumes[c], psi * mesh.cell_volumes[c])
         } else if let Some(table) = table {
             table.integrate(mesh, c, exact_kernels)
+        } else if let Some(this_build) = this_build {
+            this_build.integrate(mesh, c, exact_kernels)
         } else {
             cell_quadrature::integrate(mesh, c, sigma, geo.empty_normal.as_ref(), exact_kernels)
         };
@@ -318,8 +327,8 @@ mod tests {
 
     /// Against the reference's stencil, particle by particle: the same cells and, for each
     /// weight asked for, the same bits; the other weight left empty. Kernels wider than the
-    /// cells (one point per cell), narrower (the cell quadrature, from the table from the third
-    /// build on) and mixed widths; particles in the interior, at a wall (ghost) and in a corner;
+    /// cells (one point per cell), narrower (the cell quadrature: made once per build in the
+    /// first two builds, as on a moving mesh, from the table from the third on) and mixed widths; particles in the interior, at a wall (ghost) and in a corner;
     /// a 2-D and a 3-D mesh.
     #[test]
     fn the_same_stencils_as_the_reference_for_every_weight_choice() {
