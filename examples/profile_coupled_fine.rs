@@ -1,7 +1,9 @@
-//! Profiling rig for issue 19: N steps of P3 fine (`cases/bench/hindered_settling_fine.toml`)
-//! with the whole fast solver on 2 threads, for `perf record -g`.
+//! Profiling rig for issue 19: N steps of P3 fine (`cases/bench/hindered_settling_fine.toml`),
+//! or of another coupled case (e.g. `cases/cutter_head.toml`, run to its own end), with the
+//! whole fast solver on 2 threads, for `perf record -g`; `PROFILE_COUNTS=1` prints each step's
+//! linear-solver iterations and times.
 //!
-//! `cargo run --release --example profile_coupled_fine -- [steps] [kernel|diffusion] [threads]`
+//! `cargo run --release --example profile_coupled_fine -- [steps] [kernel|diffusion] [threads] [case]`
 
 use std::path::Path;
 use std::time::Instant;
@@ -18,9 +20,11 @@ fn main() {
     let steps: usize = args.get(1).map_or(20, |s| s.parse().expect("steps"));
     let method = args.get(2).map_or("kernel", String::as_str);
     let threads: usize = args.get(3).map_or(2, |s| s.parse().expect("threads"));
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench/hindered_settling_fine.toml");
+    let path = args.get(4).map_or(Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench/hindered_settling_fine.toml"), std::path::PathBuf::from);
     let mut case = Case::load(&path).expect("case");
-    case.time.end_time = Some(1.0);
+    if case.cutter_head.is_none() {
+        case.time.end_time = Some(1.0);
+    }
     if method == "diffusion" {
         let coupling = case.coupling.as_mut().expect("[coupling]");
         coupling.method = spillage_model::coupling::MappingMethod::Diffusion;
