@@ -382,7 +382,7 @@ fn turbulence_lines(case: &Case, d: &Derived) -> Vec<String> {
 
 fn particle_lines(case: &Case) -> Vec<String> {
     use spillage_model::closure::{collision_time, restitution};
-    use spillage_model::particles::settings::GroupSection;
+    use spillage_model::particles::settings::{FluidForces, GroupSection};
     let Some(p) = &case.particles else { return Vec::new() };
     let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
     diameters.extend(p.groups.iter().map(|g| match g {
@@ -413,6 +413,14 @@ fn particle_lines(case: &Case) -> Vec<String> {
     let case_fluid = case.fluid.as_ref().map(|f| (f.density, f.kinematic_viscosity));
     let fluid = case_fluid.or(p.ambient.as_ref().map(|a| (a.density, a.kinematic_viscosity)));
     let wet = p.wet_fluid(case_fluid).is_some();
+    if fluid.is_some() {
+        lines.push(match p.fluid_forces {
+            FluidForces::Full => "forces       drag, added mass (C_AM 0.5), pressure gradient, gravity with buoyancy (fluid-dem-model.md §5; fluid_forces = \"full\")".to_string(),
+            FluidForces::DragAndBuoyancy => {
+                "forces       drag and buoyancy only: the wear model's particle, no added mass or pressure-gradient force (wear-model.md Eqs. 2.11/5.3; fluid_forces = \"drag_and_buoyancy\")".to_string()
+            }
+        });
+    }
     if let Some((rho_f, nu)) = fluid {
         for m in &p.materials {
             let lo = restitution::stokes_number(m.density, rho_f, speed, d_min, nu);

@@ -399,6 +399,26 @@ fn check_says_whether_the_restitution_is_wet() {
     }
 }
 
+/// `spillage check` names the particle equation's fluid forces: the full set by default, the
+/// wear model's drag and buoyancy when the case asks for them.
+#[test]
+fn check_names_the_fluid_forces_on_the_particles() {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/coriolis_garnet.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
+    let dir = scratch("fluid-forces");
+    let thesis = dir.join("coriolis_drag_and_buoyancy.toml");
+    let edited = text.replacen("[particles]\n", "[particles]\nfluid_forces = \"drag_and_buoyancy\"\n", 1);
+    assert_ne!(edited, text, "the edit found [particles]");
+    std::fs::write(&thesis, edited).unwrap();
+    for (case, needle) in [(source, "forces       drag, added mass (C_AM 0.5)"), (thesis, "forces       drag and buoyancy only")] {
+        let out = spillage(&["check", case.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(text.lines().filter(|l| l.starts_with("forces ")).count(), 1, "{text}");
+        assert!(text.contains(needle), "{}: {needle:?} not in\n{text}", case.display());
+    }
+}
+
 #[test]
 fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() {
     let dir = scratch("unconverged");
