@@ -107,7 +107,10 @@ impl QuadratureTable {
 }
 
 /// The cell quadratures of one build of the stencils of kernels of one width on a mesh that
-/// moves between builds, each made when a particle first needs it (module doc).
+/// moves between builds, each made when a particle first needs it (module doc). Each build
+/// allocates the points of the cells it reaches (a few hundred short vectors on the cutter
+/// head) and the next build's [`BuildQuadratures::start`] frees them: far less than the
+/// trilinear maps they save.
 #[derive(Default)]
 pub struct BuildQuadratures {
     width: f64,

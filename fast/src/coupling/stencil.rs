@@ -57,8 +57,9 @@ struct Rules<'a> {
     /// has every cell take one point (the count is monotone in the span,
     /// [`cell_quadrature::takes_one_point`]).
     widest_span: Option<f64>,
-    /// The tabulated quadratures of this build's width, if any; else those made in this build.
+    /// The tabulated quadratures of this build's width, if any.
     table: Option<&'a QuadratureTable>,
+    /// Else, on a mesh that moves, the quadratures made in this build.
     this_build: Option<&'a BuildQuadratures>,
     /// The wall faces that mirror ghosts, binned.
     walls: WallGrid,
