@@ -5,8 +5,9 @@
 //! * particles as struct-of-arrays in cell order ([`arrays`]), re-sorted every outer step;
 //! * a half neighbour list with a skin over a sorted cell list, contact histories beside its
 //!   pairs ([`neighbour_list`]);
-//! * pair forces evaluated in parallel into the pairs' entries and summed per particle in the
-//!   reference's order ([`pair_forces`]);
+//! * pair forces evaluated four at a time in AVX lanes ([`pair_lanes`]), the list cut into one
+//!   segment per thread, each pair added to its particles as it is evaluated, every particle's
+//!   sum in the reference's order ([`pair_forces`]);
 //! * wall contacts per particle against each wall's bounding-volume hierarchy in its body
 //!   frame, the near triangles kept while the particle stays within the skin
 //!   ([`wall_forces`]);
@@ -20,6 +21,8 @@ pub mod integrate;
 pub mod neighbour_list;
 pub mod pair_forces;
 pub mod pair_lanes;
+#[cfg(target_arch = "x86_64")]
+mod pair_lanes_avx;
 pub mod wall_forces;
 
 use rayon::prelude::*;
@@ -29,7 +32,7 @@ use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::particles::dem_setup::{DemSetup, WallMeshes};
 use spillage_model::particles::guards::{EnergyBudget, Fault};
 use spillage_model::particles::substeps::substeps_for;
-use spillage_model::particles::{ContactRecord, ImpactRecord, ParticleState, Partner};
+use spillage_model::particles::{ImpactRecord, ParticleState, Partner};
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
@@ -38,7 +41,7 @@ use spillage_model::walls::state::{WallFrame, WallState};
 use arrays::ParticleArrays;
 use integrate::{advance_particles, Pass, StepSums};
 use neighbour_list::{History, NeighbourList};
-use pair_forces::{evaluate_and_add, evaluate_pairs, first_fault, gather, PairContext};
+use pair_forces::{evaluate_and_add, first_fault, PairContext};
 use wall_forces::{evaluate_walls, FarFromWalls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
@@ -173,13 +176,26 @@ impl FastDem {
     }
 
     /// The contact history in the state's form: sorted by (particle, partner), a wall's
-    /// records in the order they were found.
+    /// records in the order they were found. The list's pair records are in that order already
+    /// (ascending ids of a, then b) and each side's wall records follow its pairs (walls sort
+    /// after particles), so the sides are ordered by id and merged in, not the whole history
+    /// sorted again.
     fn store_history(&mut self, particles: &mut ParticleState) {
         self.list.sync_records(&self.arrays);
-        let pairs = self.list.records.iter().filter_map(|r| r.clone());
-        let walls = self.wall_sides.iter().flat_map(|s| s.history.iter().cloned());
-        let mut records: Vec<ContactRecord> = pairs.chain(walls).collect();
-        records.sort_by(|x, y| (x.particle, x.partner).cmp(&(y.particle, y.partner)));
+        let mut sides: Vec<(u64, usize)> =
+            self.wall_sides.iter().enumerate().filter(|(_, s)| !s.history.is_empty()).map(|(k, _)| (self.arrays.id[k], k)).collect();
+        sides.sort_unstable();
+        let mut records = std::mem::take(&mut particles.contacts);
+        records.clear();
+        let mut pairs = self.list.records.iter().flatten().peekable();
+        for (id, k) in sides {
+            while let Some(pair) = pairs.next_if(|r| r.particle <= id) {
+                records.push(pair.clone());
+            }
+            records.extend(self.wall_sides[k].history.iter().cloned());
+        }
+        records.extend(pairs.cloned());
+        debug_assert!(records.is_sorted_by(|x, y| (x.particle, x.partner) <= (y.particle, y.partner)));
         self.stored_records = records.len();
         particles.contacts = records;
     }
@@ -221,18 +237,7 @@ impl FastDem {
         let mut forces = std::mem::take(&mut arrays.force);
         let mut torques = std::mem::take(&mut arrays.torque);
         let mut counts = std::mem::take(&mut arrays.contacts);
-        // one thread adds each pair to its particles as it goes; more evaluate the pairs in
-        // parallel and then sum each particle's (the same sums, in the same order)
-        let pair_fault = if rayon::current_num_threads() == 1 {
-            evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts)
-        } else {
-            let fault = evaluate_pairs(list, arrays, &pair_context);
-            let list = &*list;
-            (&mut forces, &mut torques, &mut counts).into_par_iter().enumerate().with_min_len(256).for_each(|(k, (f, t, c))| {
-                (*f, *t, *c) = gather(list, k);
-            });
-            fault
-        };
+        let pair_fault = evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts);
         self.place_frames(walls);
         let wall_context = WallContext {
             materials: &self.setup.materials,

@@ -81,10 +81,10 @@ pub struct NeighbourList {
     pub records: Vec<Option<ContactRecord>>,
     pub energy: Vec<PairEnergy>,
     pub forces: Vec<PairForce>,
-    /// Each particle's pairs in ascending partner id (the reference's order of summation):
-    /// `(pair, particle is the pair's a)`.
-    pub adjacency: Vec<(u32, bool)>,
-    pub adjacency_start: Vec<usize>,
+    /// How the pairs are split among the threads ([`Segments`]).
+    pub segments: Segments,
+    /// Each segment's contributions set aside (buffers reused from sub-step to sub-step).
+    pub set_aside: Vec<Vec<super::pair_forces::SetAside>>,
     /// Positions at the last build.
     built_at: Vec<Vec3>,
     previous_pairs: Vec<Pair>,
@@ -167,22 +167,24 @@ impl NeighbourList {
         let previous_valid = self.built_at.len() == n;
         let ids = |p: &Pair| (arrays.id[p.a as usize], arrays.id[p.b as usize]);
         self.found.clear();
-        self.found.par_extend((0..n).into_par_iter().with_min_len(256).flat_map_iter(|k| {
-            let mut found = Vec::new();
-            for_each_partner(&grid, &cells, arrays, skin, k, |j| found.push(j));
-            found.into_iter().map(move |j| {
-                let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
-                let source = match history {
-                    History::Records(records) => {
-                        let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
-                        records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok()
-                    }
-                    History::Previous if previous_valid => previous_pairs.binary_search_by_key(&(arrays.id[a], arrays.id[b]), ids).ok(),
-                    History::Previous => None,
-                };
-                (a as u32, b as u32, source)
-            })
-        }));
+        let pair = |k: usize, j: usize| {
+            let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
+            let source = match history {
+                History::Records(records) => {
+                    let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
+                    records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok()
+                }
+                History::Previous if previous_valid => previous_pairs.binary_search_by_key(&(arrays.id[a], arrays.id[b]), ids).ok(),
+                History::Previous => None,
+            };
+            (a as u32, b as u32, source)
+        };
+        // one buffer per job, not per particle (the order is the sort's below)
+        let per_job = (0..n).into_par_iter().with_min_len(256).fold(Vec::new, |mut found, k| {
+            for_each_partner(&grid, &cells, arrays, skin, k, |j| found.push(pair(k, j)));
+            found
+        });
+        self.found.par_extend(per_job.flatten_iter());
 
         // pairs in ascending (id of a, id of b): each particle meets its pairs in ascending
         // partner id, the reference's order of summation, so a single thread can add each
@@ -240,38 +242,52 @@ impl NeighbourList {
         self.forces.resize(self.pairs.len(), PairForce::default());
         self.energy.clear();
         self.energy.resize(self.pairs.len(), PairEnergy::default());
-        self.build_adjacency(arrays);
+        self.segments.plan(&self.pairs, n, rayon::current_num_threads());
         self.built_at.clear();
         self.built_at.extend_from_slice(&arrays.position);
     }
+}
 
-    fn build_adjacency(&mut self, arrays: &ParticleArrays) {
-        let n = arrays.len();
-        self.adjacency_start.clear();
-        self.adjacency_start.resize(n + 1, 0);
-        for s in &self.pairs {
-            self.adjacency_start[s.a as usize + 1] += 1;
-            self.adjacency_start[s.b as usize + 1] += 1;
-        }
-        for k in 0..n {
-            self.adjacency_start[k + 1] += self.adjacency_start[k];
-        }
-        self.adjacency.clear();
-        self.adjacency.resize(self.adjacency_start[n], (0, false));
-        let mut next = self.adjacency_start.clone();
-        for (i, s) in self.pairs.iter().enumerate() {
-            for (k, is_a) in [(s.a as usize, true), (s.b as usize, false)] {
-                self.adjacency[next[k]] = (i as u32, is_a);
-                next[k] += 1;
+/// The listed pairs cut into consecutive segments of `chunk` pairs, one per thread, each
+/// evaluated and added to its particles as it goes ([`super::pair_forces::evaluate_and_add`]).
+/// A particle's pair forces must be summed in list order (ascending partner id, the
+/// reference's order), so only the first segment a particle appears in adds to it directly;
+/// later segments set their contributions aside, and these are added after all segments are
+/// done, segment by segment: the same sums in the same order as one thread takes them.
+#[derive(Default)]
+pub struct Segments {
+    /// Pairs per segment (a multiple of 4, the kernel's group; at least 1).
+    pub chunk: usize,
+    /// Each particle's first segment (`u32::MAX`: in no pair).
+    pub first: Vec<u32>,
+    /// The thread count it was planned for.
+    pub threads: usize,
+}
+
+/// Fewest pairs worth a segment of their own (a thread's share below this costs more in
+/// setting aside than it gains).
+const MIN_SEGMENT_PAIRS: usize = 1024;
+
+impl Segments {
+    /// Plans the segments of `pairs` among `n` particles for `threads` threads.
+    pub fn plan(&mut self, pairs: &[Pair], n: usize, threads: usize) {
+        self.plan_with(pairs, n, threads, MIN_SEGMENT_PAIRS);
+    }
+
+    /// [`Self::plan`] with segments of at least `min_pairs` pairs (tests cut short lists).
+    pub fn plan_with(&mut self, pairs: &[Pair], n: usize, threads: usize, min_pairs: usize) {
+        let count = threads.clamp(1, (pairs.len() / min_pairs.max(1)).max(1));
+        self.chunk = (pairs.len().div_ceil(count).div_ceil(4) * 4).max(1);
+        self.threads = threads;
+        self.first.clear();
+        self.first.resize(n, u32::MAX);
+        for (s, segment) in pairs.chunks(self.chunk).enumerate() {
+            for pair in segment {
+                for p in [pair.a, pair.b] {
+                    let first = &mut self.first[p as usize];
+                    *first = (*first).min(s as u32);
+                }
             }
-        }
-        let pairs = &self.pairs;
-        let partner = |&(pair, is_a): &(u32, bool)| {
-            let s = &pairs[pair as usize];
-            arrays.id[if is_a { s.b } else { s.a } as usize]
-        };
-        for k in 0..n {
-            self.adjacency[self.adjacency_start[k]..self.adjacency_start[k + 1]].sort_unstable_by_key(partner);
         }
     }
 }
@@ -347,7 +363,7 @@ mod tests {
 
     /// The list holds exactly the pairs whose gap is below the skin (all-pairs search), each
     /// once, with the smaller id as `a`, in ascending ids, for a tenfold size range; and each
-    /// particle's adjacency is in ascending partner id.
+    /// particle's first segment is the first that holds one of its pairs.
     #[test]
     fn the_list_holds_exactly_the_pairs_within_the_skin() {
         let particles = cloud(400, 11, 0.3);
@@ -371,11 +387,12 @@ mod tests {
         }
         assert!(brute.len() > 100, "{} pairs: the test needs a dense cloud", brute.len());
         assert_eq!(listed, brute);
+        // each particle's first segment is the first that holds one of its pairs
+        list.segments.plan_with(&list.pairs, arrays.len(), 3, 4);
+        assert!(list.pairs.len() > 3 * list.segments.chunk - 4 * 3, "three segments");
         for k in 0..arrays.len() {
-            let row = &list.adjacency[list.adjacency_start[k]..list.adjacency_start[k + 1]];
-            let partners: Vec<u64> =
-                row.iter().map(|&(s, is_a)| arrays.id[if is_a { list.pairs[s as usize].b } else { list.pairs[s as usize].a } as usize]).collect();
-            assert!(partners.windows(2).all(|w| w[0] < w[1]), "particle {}: partners {partners:?}", arrays.id[k]);
+            let first = list.pairs.chunks(list.segments.chunk).position(|c| c.iter().any(|s| s.a as usize == k || s.b as usize == k));
+            assert_eq!(list.segments.first[k], first.map_or(u32::MAX, |s| s as u32), "particle {k}");
         }
     }
 

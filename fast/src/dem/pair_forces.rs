@@ -1,7 +1,8 @@
-//! Particle–particle contacts of one sub-step (fluid-dem-model.md §7.8): every listed pair is
-//! evaluated in parallel into its own entries, then each particle sums its pairs in ascending
-//! partner id, the order in which the reference adds them, so both give the same bits and the
-//! result does not depend on the number of threads.
+//! Particle–particle contacts of one sub-step (fluid-dem-model.md §7.8): the threads take
+//! consecutive segments of the listed pairs, evaluate them and add each to its two particles,
+//! every particle receiving its pairs in ascending partner id, the order in which the reference
+//! adds them, so both give the same bits and the result does not depend on the number of
+//! threads.
 
 use rayon::prelude::*;
 
@@ -30,23 +31,15 @@ pub struct PairContext<'a> {
     pub energy: bool,
 }
 
-/// Evaluates every listed pair into its entries; true when some pair has a fault (found by
-/// [`first_fault`]). Summed per particle by [`gather`].
-pub fn evaluate_pairs(list: &mut NeighbourList, arrays: &ParticleArrays, context: &PairContext) -> bool {
-    let constants = &list.constants;
-    let groups =
-        (list.pairs.par_chunks(4), list.touch.par_chunks_mut(4), list.records.par_chunks_mut(4), list.energy.par_chunks_mut(4), list.forces.par_chunks_mut(4));
-    groups
-        .into_par_iter()
-        .with_min_len(128)
-        .map(|(pairs, touch, records, energy, out)| evaluate_group(pairs, constants, touch, records, energy, out, arrays, context))
-        .reduce(|| false, |x, y| x || y)
-}
-
-/// On one thread: every listed pair evaluated into its entries and added to its two particles'
-/// `force`, `torque` and `count` at once (no second pass over the pairs' forces). The list is in
-/// ascending (id of a, id of b), so each particle receives its pairs in ascending partner id,
-/// as [`gather`] sums them: the same bits as [`evaluate_pairs`] and [`gather`].
+/// Every listed pair evaluated into its entries and added to its two particles' `force`,
+/// `torque` and `count` as it goes (no second pass over the pairs' forces); true when some pair
+/// has a fault (found by [`first_fault`]).
+///
+/// The list is in ascending (id of a, id of b), so each particle receives its pairs in ascending
+/// partner id, the reference's order of summation. The threads take consecutive segments of the
+/// list ([`Segments`](super::neighbour_list::Segments)): a particle's first segment adds to it directly, the later ones set their
+/// contributions aside, and these are added at the end in segment order, so every sum is taken
+/// in list order whatever the number of threads: the same bits on 1 or N.
 pub fn evaluate_and_add(
     list: &mut NeighbourList,
     arrays: &ParticleArrays,
@@ -55,30 +48,125 @@ pub fn evaluate_and_add(
     torque: &mut [Vec3],
     count: &mut [u32],
 ) -> bool {
-    force.fill(Vec3::zeros());
-    torque.fill(Vec3::zeros());
-    count.fill(0);
-    let constants = &list.constants;
-    let groups =
-        list.pairs.chunks(4).zip(list.touch.chunks_mut(4)).zip(list.records.chunks_mut(4)).zip(list.energy.chunks_mut(4)).zip(list.forces.chunks_mut(4));
-    let mut fault = false;
-    // the pairs' forces are read back at once; the list keeps them only when the totals need
-    // their touching flags (the energy guard's sub-steps)
-    let mut scratch = [PairForce::default(); 4];
-    for ((((pairs, touch), records), energy), kept) in groups {
-        let out = if context.energy { kept } else { &mut scratch[..pairs.len()] };
-        fault |= evaluate_group(pairs, constants, touch, records, energy, out, arrays, context);
-        for (pair, f) in pairs.iter().zip(out.iter()).filter(|(_, f)| f.touching) {
-            let (a, b) = (pair.a as usize, pair.b as usize);
-            force[a] += f.force;
-            torque[a] += f.torque_a;
-            count[a] += 1;
-            force[b] -= f.force;
-            torque[b] += f.torque_b;
-            count[b] += 1;
-        }
+    if list.segments.threads != rayon::current_num_threads() || list.segments.first.len() != arrays.len() {
+        list.segments.plan(&list.pairs, arrays.len(), rayon::current_num_threads());
+    }
+    (&mut *force, &mut *torque, &mut *count).into_par_iter().with_min_len(1024).for_each(|(f, t, c)| {
+        (*f, *t, *c) = (Vec3::zeros(), Vec3::zeros(), 0);
+    });
+    let NeighbourList { pairs, constants, touch, records, energy, forces, segments, set_aside, .. } = list;
+    let chunk = segments.chunk;
+    set_aside.resize_with(pairs.len().div_ceil(chunk), Vec::new);
+    let sums = SharedSums::new(force, torque, count);
+    let segment_slices =
+        (pairs.par_chunks(chunk), touch.par_chunks_mut(chunk), records.par_chunks_mut(chunk), energy.par_chunks_mut(chunk), forces.par_chunks_mut(chunk));
+    let fault = (segment_slices, set_aside.par_iter_mut())
+        .into_par_iter()
+        .enumerate()
+        .map(|(s, ((pairs, touch, records, energy, kept), aside))| {
+            let segment = Segment { index: s as u32, first: &segments.first, sums: &sums, aside };
+            segment.evaluate(pairs, constants, touch, records, energy, kept, arrays, context)
+        })
+        .reduce(|| false, |x, y| x || y);
+    // SAFETY: the segments are done; nothing else holds the sums' memory now
+    for contribution in set_aside.iter().flatten() {
+        unsafe { sums.add(contribution.particle as usize, contribution.is_a, &contribution.force) };
     }
     fault
+}
+
+/// A pair's contribution to one of its particles, set aside by a segment that is not the
+/// particle's first.
+#[derive(Clone, Copy, Debug)]
+pub struct SetAside {
+    particle: u32,
+    is_a: bool,
+    force: PairForce,
+}
+
+/// The particles' sums, written by the segments in parallel: each particle only by its first
+/// segment ([`Segments::first`]), so no two threads write the same entry.
+struct SharedSums {
+    force: *mut Vec3,
+    torque: *mut Vec3,
+    count: *mut u32,
+    len: usize,
+}
+
+// SAFETY: the segments write disjoint entries (each particle's first segment only), and the
+// set-aside contributions are added after the segments are joined.
+unsafe impl Sync for SharedSums {}
+
+impl SharedSums {
+    fn new(force: &mut [Vec3], torque: &mut [Vec3], count: &mut [u32]) -> Self {
+        assert!(force.len() == torque.len() && force.len() == count.len());
+        Self { force: force.as_mut_ptr(), torque: torque.as_mut_ptr(), count: count.as_mut_ptr(), len: force.len() }
+    }
+
+    /// Adds a pair's force to its particle `k` (side a: +force, torque on a; side b: −force,
+    /// torque on b).
+    ///
+    /// # Safety
+    /// No other thread reads or writes particle `k`'s entries meanwhile.
+    #[inline]
+    unsafe fn add(&self, k: usize, is_a: bool, f: &PairForce) {
+        assert!(k < self.len);
+        // SAFETY: k is in bounds; the caller holds particle k's entries alone.
+        let (force, torque, count) = unsafe { (&mut *self.force.add(k), &mut *self.torque.add(k), &mut *self.count.add(k)) };
+        if is_a {
+            *force += f.force;
+            *torque += f.torque_a;
+        } else {
+            *force -= f.force;
+            *torque += f.torque_b;
+        }
+        *count += 1;
+    }
+}
+
+/// One thread's segment of the list.
+struct Segment<'a> {
+    index: u32,
+    first: &'a [u32],
+    sums: &'a SharedSums,
+    aside: &'a mut Vec<SetAside>,
+}
+
+impl Segment<'_> {
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate(
+        self,
+        pairs: &[Pair],
+        constants: &[PairConstants],
+        touch: &mut [Touch],
+        records: &mut [Option<ContactRecord>],
+        energy: &mut [PairEnergy],
+        kept: &mut [PairForce],
+        arrays: &ParticleArrays,
+        context: &PairContext,
+    ) -> bool {
+        self.aside.clear();
+        let groups = pairs.chunks(4).zip(touch.chunks_mut(4)).zip(records.chunks_mut(4)).zip(energy.chunks_mut(4)).zip(kept.chunks_mut(4));
+        let mut fault = false;
+        // the pairs' forces are read back at once; the list keeps them only when the totals
+        // need their touching flags (the energy guard's sub-steps)
+        let mut scratch = [PairForce::default(); 4];
+        for ((((pairs, touch), records), energy), kept) in groups {
+            let out = if context.energy { kept } else { &mut scratch[..pairs.len()] };
+            fault |= evaluate_group(pairs, constants, touch, records, energy, out, arrays, context);
+            for (pair, f) in pairs.iter().zip(out.iter()).filter(|(_, f)| f.touching) {
+                for (particle, is_a) in [(pair.a, true), (pair.b, false)] {
+                    if self.first[particle as usize] == self.index {
+                        // SAFETY: this segment is the particle's first: no other thread writes it
+                        unsafe { self.sums.add(particle as usize, is_a, f) };
+                    } else {
+                        self.aside.push(SetAside { particle, is_a, force: *f });
+                    }
+                }
+            }
+        }
+        fault
+    }
 }
 
 /// Up to four consecutive pairs: through [`four_pairs`], and the lanes it leaves (or a last
@@ -174,27 +262,6 @@ fn evaluate(
     fault
 }
 
-/// Particle `k`'s sum over its touching pairs: (force, torque, count).
-#[inline]
-pub fn gather(list: &NeighbourList, k: usize) -> (Vec3, Vec3, u32) {
-    let (mut force, mut torque, mut count) = (Vec3::zeros(), Vec3::zeros(), 0);
-    for &(slot, is_a) in &list.adjacency[list.adjacency_start[k]..list.adjacency_start[k + 1]] {
-        let s = &list.forces[slot as usize];
-        if !s.touching {
-            continue;
-        }
-        if is_a {
-            force += s.force;
-            torque += s.torque_a;
-        } else {
-            force -= s.force;
-            torque += s.torque_b;
-        }
-        count += 1;
-    }
-    (force, torque, count)
-}
-
 /// The first pair fault in the reference's order (ascending ids of a, then b), found again at
 /// the positions the pairs were evaluated at (faults are rare: they are not stored).
 pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64) -> Option<Fault> {
@@ -212,4 +279,82 @@ pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64)
         })
         .min_by_key(|(ids, _)| *ids)
         .map(|(_, fault)| fault)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dem::neighbour_list::History;
+    use spillage_model::closure::contact::SlipTest;
+    use spillage_model::particles::random::SplitMix64;
+    use spillage_model::particles::settings::MaterialSection;
+    use spillage_model::particles::Particle;
+
+    /// A jumbled, compressed heap of spheres of three sizes, moving and spinning at random:
+    /// most listed pairs touch, and ids are unrelated to position (so many particles appear in
+    /// several segments and have contributions set aside).
+    fn heap(n: usize) -> (ParticleArrays, MaterialTable) {
+        let mut random = SplitMix64::new(5);
+        let particles: Vec<Particle> = (0..n as u64)
+            .map(|id| Particle {
+                id: (id * 7919) % n as u64,
+                material: 0,
+                diameter: [0.01, 0.014, 0.02][(id % 3) as usize],
+                density: 2650.0,
+                position: Vec3::new(random.uniform(0.0, 0.12), random.uniform(0.0, 0.12), random.uniform(0.0, 0.12)),
+                velocity: Vec3::new(random.uniform(-0.1, 0.1), random.uniform(-0.1, 0.1), random.uniform(-0.1, 0.1)),
+                spin: Vec3::new(random.uniform(-5.0, 5.0), random.uniform(-5.0, 5.0), random.uniform(-5.0, 5.0)),
+                contact_force: Vec3::zeros(),
+                contact_torque: Vec3::zeros(),
+                contacts: 0,
+            })
+            .collect();
+        let mut arrays = ParticleArrays::default();
+        arrays.load(&particles, 0.022);
+        let m =
+            MaterialSection { name: "rock".into(), density: 2650.0, youngs_modulus: 1e7, poisson_ratio: 0.3, softening: 1.0, restitution: 0.5, friction: 0.3 };
+        (arrays, MaterialTable::new(&[m], SlipTest::Thesis))
+    }
+
+    /// Three sub-steps' pair sums with the list cut into many segments on several threads have
+    /// the bits of one segment on one thread, new and continuing contacts alike.
+    #[test]
+    fn segments_on_several_threads_sum_in_the_order_of_one() {
+        let (arrays, materials) = heap(1500);
+        let context = PairContext { materials: &materials, wet_fluid: None, time: 0.0, dt: 1e-5, fed_from: u64::MAX, energy: false };
+        let sums = |threads: usize, segments: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut list = NeighbourList::default();
+                list.skin = 0.001;
+                list.build(&arrays, &materials, History::Records(&[]));
+                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4);
+                // planned for these threads: evaluate_and_add keeps the cut
+                list.segments.threads = threads;
+                let n = arrays.len();
+                let (mut force, mut torque, mut count) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n], vec![0; n]);
+                let mut all = Vec::new();
+                for _ in 0..3 {
+                    evaluate_and_add(&mut list, &arrays, &context, &mut force, &mut torque, &mut count);
+                    all.push((force.clone(), torque.clone(), count.clone()));
+                }
+                let aside = list.set_aside.iter().map(Vec::len).sum::<usize>();
+                (all, list.pairs.len(), aside)
+            })
+        };
+        let (one, pairs, _) = sums(1, 1);
+        let touching = one[0].2.iter().map(|&c| c as usize).sum::<usize>() / 2;
+        assert!(pairs > 2000 && touching > pairs / 2, "{pairs} pairs, {touching} touching: the test needs a dense heap");
+        for (threads, segments) in [(2, 2), (3, 7)] {
+            let (many, _, aside) = sums(threads, segments);
+            assert!(aside > 200, "{segments} segments set aside only {aside} contributions");
+            for (sub, (a, b)) in one.iter().zip(&many).enumerate() {
+                // the first particle whose sum differs in any bit
+                let differs = |x: &[Vec3], y: &[Vec3]| x.iter().zip(y).position(|(x, y)| (0..3).any(|i| x[i].to_bits() != y[i].to_bits()));
+                assert_eq!(differs(&a.0, &b.0), None, "forces at sub-step {sub}, {segments} segments");
+                assert_eq!(differs(&a.1, &b.1), None, "torques at sub-step {sub}, {segments} segments");
+                assert!(a.2 == b.2, "contact counts at sub-step {sub}, {segments} segments");
+            }
+        }
+    }
 }

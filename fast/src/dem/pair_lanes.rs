@@ -8,7 +8,8 @@
 //! `dot` is `(x x' + y y') + z z'`, its products and quotients by a scalar are component-wise,
 //! `cross` is `(a_y b_z − a_z b_y, …)`), and nothing is fused, so a lane's result has the bits of
 //! [`hertz_mindlin_force`](spillage_model::closure::contact::hertz_mindlin_force) and the
-//! scalar pair evaluation; the unit test below holds the two to the bit. A lane that is not the
+//! scalar pair evaluation; the unit test below holds both kernels (this portable one and the
+//! AVX one of `pair_lanes_avx`, which x86-64 processors with AVX run) to the bit. A lane that is not the
 //! common case (a contact beginning or ending, or near a fault) is left to the scalar
 //! evaluation, from its untouched inputs.
 
@@ -155,19 +156,14 @@ pub struct FourPairs<'a> {
 }
 
 /// The four pairs of `group` into their entries; returns each lane's outcome. Entries of lanes
-/// marked [`Lane::Scalar`] are not written. Compiled for AVX where the processor has it (four
-/// f64 lanes in one register; the same IEEE operations, so the same bits).
+/// marked [`Lane::Scalar`] are not written. Written out in AVX instructions where the
+/// processor has them (four f64 lanes in one register; the same IEEE operations, so the same
+/// bits), else the portable lanes below.
 pub fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     #[cfg(target_arch = "x86_64")]
-    {
-        #[target_feature(enable = "avx")]
-        unsafe fn with_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
-            in_lanes(group, arrays, dt, measure_energy)
-        }
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked just above).
-            return unsafe { with_avx(group, arrays, dt, measure_energy) };
-        }
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the processor has AVX (checked just above).
+        return unsafe { super::pair_lanes_avx::four_pairs_avx(group, arrays, dt, measure_energy) };
     }
     in_lanes(group, arrays, dt, measure_energy)
 }
@@ -263,26 +259,29 @@ fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: 
     let torque_b = arm_b.cross(-tangential);
     let elastic = F4::splat(0.4) * f_n.dot(f_n).sqrt() * overlap;
 
-    [0, 1, 2, 3].map(|l| {
+    // a plain loop: written as an array `map`, the compiler kept it out of line
+    let mut lanes = [Lane::Scalar; 4];
+    for l in 0..4 {
         if touching.0[l] == 0.0 {
-            if touch[l].active {
-                return Lane::Scalar;
+            if !touch[l].active {
+                out[l].touching = false;
+                lanes[l] = Lane::Apart;
             }
-            out[l].touching = false;
-            return Lane::Apart;
+            continue;
         }
         let (r_a, r_b) = (ra.0[l], rb.0[l]);
         let near_fault = distance.0[l] == 0.0 || overlap.0[l] > MAX_OVERLAP_RATIO * r_a.min(r_b);
         if !touch[l].active || near_fault {
-            return Lane::Scalar;
+            continue;
         }
         touch[l].tangential_overlap = delta.lane(l);
         out[l] = PairForce { touching: true, force: force.lane(l), torque_a: torque_a.lane(l), torque_b: torque_b.lane(l) };
         if measure_energy {
             energy[l] = PairEnergy { overlap: overlap.0[l], elastic: elastic.0[l], placed: 0.0 };
         }
-        Lane::Done
-    })
+        lanes[l] = Lane::Done;
+    }
+    lanes
 }
 
 #[cfg(test)]
@@ -290,10 +289,20 @@ mod tests {
     use super::*;
     use spillage_model::closure::contact::hertz_mindlin_force;
 
+    type Kernel = fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4];
+
     /// Lanes against the scalar law, bit for bit, over sticking contacts of random geometry,
-    /// sizes, stiffnesses and histories (both slip tests), and the outcome of the other cases.
+    /// sizes, stiffnesses and histories (both slip tests), and the outcome of the other cases:
+    /// the kernel the processor runs (AVX instructions on x86-64 with AVX) and the portable one.
     #[test]
     fn lanes_have_the_bits_of_the_scalar_contact() {
+        let kernels: [Kernel; 2] = [four_pairs, in_lanes];
+        for kernel in kernels {
+            check_kernel(kernel);
+        }
+    }
+
+    fn check_kernel(kernel: Kernel) {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut uniform = move || {
             seed ^= seed << 13;
@@ -337,7 +346,7 @@ mod tests {
             let (mut energy, mut out) = (vec![PairEnergy::default(); 4], vec![PairForce::default(); 4]);
             let dt = 1e-5 * (0.5 + uniform());
             let group = FourPairs { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
-            let lanes = four_pairs(group, &arrays, dt, true);
+            let lanes = kernel(group, &arrays, dt, true);
             for l in 0..4 {
                 let (a, b) = (2 * l, 2 * l + 1);
                 let offset = arrays.position[b] - arrays.position[a];

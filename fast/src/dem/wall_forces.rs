@@ -8,7 +8,7 @@
 
 use std::cell::RefCell;
 
-use spillage_model::closure::contact::hertz_mindlin_force;
+use spillage_model::closure::contact::{hertz_mindlin_force, PairConstants};
 use spillage_model::particles::first_touch::{continued_wall_contact, impact, wall_record};
 use spillage_model::particles::guards::{wall_fault, Fault, MAX_OVERLAP_RATIO};
 use spillage_model::particles::materials::MaterialTable;
@@ -69,6 +69,9 @@ pub struct WallSide {
     pub contacts: u32,
     pub max_overlap_ratio: f64,
     pub fault: Option<Fault>,
+    /// The contact constants of the particle against the wall material of its last wall
+    /// contact (a particle's size and mass stay while it is loaded; reloading makes new sides).
+    constants: Option<(usize, PairConstants)>,
 }
 
 /// What the wall evaluation reads besides the particles.
@@ -205,7 +208,14 @@ pub fn evaluate_walls(
                         wall_record(context.materials, context.wet_fluid, &p, w as u32, wall.material, normal, v_rel, context.time)
                     }
                 };
-                let constants = context.materials.constants(arrays.material[k], wall.material, r, f64::INFINITY, arrays.mass[k], f64::INFINITY);
+                let constants = match side.constants {
+                    Some((material, constants)) if material == wall.material => constants,
+                    _ => {
+                        let constants = context.materials.constants(arrays.material[k], wall.material, r, f64::INFINITY, arrays.mass[k], f64::INFINITY);
+                        side.constants = Some((wall.material, constants));
+                        constants
+                    }
+                };
                 let f = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
                 record.normal = normal;
                 if context.sliding_walls[w] {
