@@ -37,9 +37,10 @@ pub struct PairContext<'a> {
 ///
 /// The list is in ascending (id of a, id of b), so each particle receives its pairs in ascending
 /// partner id, the reference's order of summation. The threads take consecutive segments of the
-/// list ([`Segments`](super::neighbour_list::Segments)): a particle's first segment adds to it directly, the later ones set their
-/// contributions aside, and these are added at the end in segment order, so every sum is taken
-/// in list order whatever the number of threads: the same bits on 1 or N.
+/// list ([`Segments`](super::neighbour_list::Segments)): a particle's first segment adds to it
+/// directly, the later ones set their contributions aside, and these are added at the end in
+/// segment order, so every sum is taken in list order whatever the number of threads: the same
+/// bits on 1 or N.
 pub fn evaluate_and_add(
     list: &mut NeighbourList,
     arrays: &ParticleArrays,
@@ -68,8 +69,8 @@ pub fn evaluate_and_add(
             segment.evaluate(pairs, constants, touch, records, energy, kept, arrays, context)
         })
         .reduce(|| false, |x, y| x || y);
-    // SAFETY: the segments are done; nothing else holds the sums' memory now
     for contribution in set_aside.iter().flatten() {
+        // SAFETY: the segments are joined; nothing else holds the sums' memory now
         unsafe { sums.add(contribution.particle as usize, contribution.is_a, &contribution.force) };
     }
     fault
