@@ -187,8 +187,8 @@ impl NeighbourList {
         self.found.par_extend(per_job.flatten_iter());
 
         // pairs in ascending (id of a, id of b): each particle meets its pairs in ascending
-        // partner id, the reference's order of summation, so a single thread can add each
-        // pair's force to its particles as it goes ([`super::pair_forces::evaluate_and_add`])
+        // partner id, the reference's order of summation, so each pair's force can be added to
+        // its particles as it is evaluated, segment by segment ([`Segments`])
         self.found.par_sort_unstable_by_key(|&(a, b, _)| (arrays.id[a as usize], arrays.id[b as usize]));
 
         // each pair's history, and its constants interned (a bed of one size has one entry)
