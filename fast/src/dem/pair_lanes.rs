@@ -9,8 +9,8 @@
 //! `cross` is `(a_y b_z − a_z b_y, …)`), and nothing is fused, so a lane's result has the bits of
 //! [`hertz_mindlin_force`](spillage_model::closure::contact::hertz_mindlin_force) and the
 //! scalar pair evaluation; the unit test below holds both kernels (this portable one and the
-//! AVX one of `pair_lanes_avx`, which x86-64 processors with AVX run) to the bit. A lane that is not the
-//! common case (a contact beginning or ending, or near a fault) is left to the scalar
+//! AVX one of `pair_lanes_avx`, which x86-64 processors with AVX run) to the bit. A lane that is
+//! not the common case (a contact beginning or ending, or near a fault) is left to the scalar
 //! evaluation, from its untouched inputs.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -259,29 +259,26 @@ fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: 
     let torque_b = arm_b.cross(-tangential);
     let elastic = F4::splat(0.4) * f_n.dot(f_n).sqrt() * overlap;
 
-    // a plain loop: written as an array `map`, the compiler kept it out of line
-    let mut lanes = [Lane::Scalar; 4];
-    for l in 0..4 {
+    [0, 1, 2, 3].map(|l| {
         if touching.0[l] == 0.0 {
-            if !touch[l].active {
-                out[l].touching = false;
-                lanes[l] = Lane::Apart;
+            if touch[l].active {
+                return Lane::Scalar;
             }
-            continue;
+            out[l].touching = false;
+            return Lane::Apart;
         }
         let (r_a, r_b) = (ra.0[l], rb.0[l]);
         let near_fault = distance.0[l] == 0.0 || overlap.0[l] > MAX_OVERLAP_RATIO * r_a.min(r_b);
         if !touch[l].active || near_fault {
-            continue;
+            return Lane::Scalar;
         }
         touch[l].tangential_overlap = delta.lane(l);
         out[l] = PairForce { touching: true, force: force.lane(l), torque_a: torque_a.lane(l), torque_b: torque_b.lane(l) };
         if measure_energy {
             energy[l] = PairEnergy { overlap: overlap.0[l], elastic: elastic.0[l], placed: 0.0 };
         }
-        lanes[l] = Lane::Done;
-    }
-    lanes
+        Lane::Done
+    })
 }
 
 #[cfg(test)]
