@@ -28,14 +28,42 @@ pub struct Pair {
 }
 
 /// The part of a pair's contact history every sub-step reads and updates, kept apart from the
-/// rest of its [`ContactRecord`] so the sub-steps stream 40 bytes per pair, not the record's
-/// hundred (the pair loop is bound by memory traffic).
-#[derive(Clone, Copy, Debug, Default)]
+/// rest of its [`ContactRecord`] so the sub-steps stream 32 bytes per pair, not the record's
+/// hundred: the pair loop is bound by memory traffic (with a flag of its own for "touching"
+/// the entry took 40 bytes, and the 10⁴ bed's sub-step no longer fitted a 4 MB cache).
+#[derive(Clone, Copy, Debug)]
 pub struct Touch {
-    /// The pair touches (it has a contact record).
-    pub active: bool,
     pub tangential_overlap: Vec3,
-    pub damping_ratio: f64,
+    /// α_η of the contact; NaN while the pair does not touch (has no contact record), which
+    /// [`damping_ratio`](spillage_model::closure::contact::damping_ratio) never returns.
+    damping_ratio: f64,
+}
+
+impl Default for Touch {
+    /// Apart.
+    fn default() -> Self {
+        Self { tangential_overlap: Vec3::zeros(), damping_ratio: f64::NAN }
+    }
+}
+
+impl Touch {
+    /// A contact with this history.
+    pub fn touching(tangential_overlap: Vec3, damping_ratio: f64) -> Self {
+        debug_assert!(!damping_ratio.is_nan(), "a contact's damping ratio is never NaN");
+        Self { tangential_overlap, damping_ratio }
+    }
+
+    /// Whether the pair touches (has a contact record).
+    #[inline]
+    pub fn active(&self) -> bool {
+        !self.damping_ratio.is_nan()
+    }
+
+    /// α_η of a touching pair (NaN for a pair apart).
+    #[inline]
+    pub fn damping_ratio(&self) -> f64 {
+        self.damping_ratio
+    }
 }
 
 /// What the energy guard reads of a touching pair's last evaluation, measured only when asked
@@ -230,7 +258,7 @@ impl NeighbourList {
             let (record, touch) = match (history, source) {
                 (History::Records(records), Some(r)) => {
                     let r = &records[r];
-                    (Some(r.clone()), Touch { active: true, tangential_overlap: r.tangential_overlap, damping_ratio: r.damping_ratio })
+                    (Some(r.clone()), Touch::touching(r.tangential_overlap, r.damping_ratio))
                 }
                 (History::Previous, Some(p)) => (self.previous_records[p].clone(), self.previous_touch[p]),
                 _ => (None, Touch::default()),

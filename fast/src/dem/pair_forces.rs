@@ -217,8 +217,8 @@ fn evaluate(
     let distance = offset.norm();
     if !(distance < ra + rb) {
         out.touching = false;
-        if touch.active {
-            touch.active = false;
+        if touch.active() {
+            *touch = Touch::default();
             *record = None;
         }
         return false;
@@ -231,8 +231,8 @@ fn evaluate(
         fault = found.is_some();
         if matches!(found, Some(Fault::Coincident { .. })) {
             out.touching = false;
-            if touch.active {
-                touch.active = false;
+            if touch.active() {
+                *touch = Touch::default();
                 *record = None;
             }
             return fault;
@@ -241,13 +241,13 @@ fn evaluate(
     let normal = offset / distance;
     // §7.8 step 2: relative velocity of the contact point.
     let v_rel = arrays.velocity[a] + arrays.spin[a].cross(&(ra * normal)) - (arrays.velocity[b] + arrays.spin[b].cross(&(-rb * normal)));
-    let new_contact = !touch.active;
+    let new_contact = !touch.active();
     if new_contact {
         let first = pair_record(context.materials, context.wet_fluid, &arrays.particle(a), &arrays.particle(b), normal, v_rel, context.time);
-        *touch = Touch { active: true, tangential_overlap: first.tangential_overlap, damping_ratio: first.damping_ratio };
+        *touch = Touch::touching(first.tangential_overlap, first.damping_ratio);
         *record = Some(first);
     }
-    let force = hertz_mindlin_force(constants, touch.damping_ratio, normal, overlap, v_rel, &mut touch.tangential_overlap, context.dt);
+    let force = hertz_mindlin_force(constants, touch.damping_ratio(), normal, overlap, v_rel, &mut touch.tangential_overlap, context.dt);
     // §7.8 steps 6–7.
     *out = PairForce {
         touching: true,

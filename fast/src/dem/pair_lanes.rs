@@ -192,7 +192,7 @@ fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: 
     let u_n = normal.scale(approach_speed);
     let u_t = v_rel - u_n;
     let root = overlap.map(|o| o.max(0.0)).sqrt();
-    let eta = F4::new(|l| touch[l].damping_ratio * c[l].damping_scale) * root.sqrt();
+    let eta = F4::new(|l| touch[l].damping_ratio() * c[l].damping_scale) * root.sqrt();
     let f_n = normal.scale(F4::new(|l| -c[l].normal_stiffness) * (overlap * root)) - u_n.scale(eta);
     let old_delta = V4::new(|l| touch[l].tangential_overlap);
     let old_length_sq = old_delta.dot(old_delta);
@@ -261,7 +261,7 @@ fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: 
 
     [0, 1, 2, 3].map(|l| {
         if touching.0[l] == 0.0 {
-            if touch[l].active {
+            if touch[l].active() {
                 return Lane::Scalar;
             }
             out[l].touching = false;
@@ -269,7 +269,7 @@ fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: 
         }
         let (r_a, r_b) = (ra.0[l], rb.0[l]);
         let near_fault = distance.0[l] == 0.0 || overlap.0[l] > MAX_OVERLAP_RATIO * r_a.min(r_b);
-        if !touch[l].active || near_fault {
+        if !touch[l].active() || near_fault {
             return Lane::Scalar;
         }
         touch[l].tangential_overlap = delta.lane(l);
@@ -337,7 +337,7 @@ mod tests {
                     slip_test: if uniform() < 0.5 { SlipTest::Thesis } else { SlipTest::Spring },
                 });
                 let history = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 1e-6 * uniform();
-                touch.push(Touch { active: !apart && uniform() < 0.9, tangential_overlap: history, damping_ratio: 0.5 * uniform() });
+                touch.push(if !apart && uniform() < 0.9 { Touch::touching(history, 0.5 * uniform()) } else { Touch::default() });
             }
             let before = touch.clone();
             let (mut energy, mut out) = (vec![PairEnergy::default(); 4], vec![PairForce::default(); 4]);
@@ -356,8 +356,8 @@ mod tests {
                         let v_rel = arrays.velocity[a] + arrays.spin[a].cross(&(ra * normal)) - (arrays.velocity[b] + arrays.spin[b].cross(&(-rb * normal)));
                         let mut delta = before[l].tangential_overlap;
                         let overlap = ra + rb - distance;
-                        let f = hertz_mindlin_force(&constants[l], before[l].damping_ratio, normal, overlap, v_rel, &mut delta, dt);
-                        assert!(before[l].active);
+                        let f = hertz_mindlin_force(&constants[l], before[l].damping_ratio(), normal, overlap, v_rel, &mut delta, dt);
+                        assert!(before[l].active());
                         sliding += f.sliding as usize;
                         let same = |x: Vec3, y: Vec3| (0..3).all(|i| x[i].to_bits() == y[i].to_bits());
                         assert!(same(touch[l].tangential_overlap, delta), "trial {trial} lane {l}: δ_t");
@@ -369,7 +369,7 @@ mod tests {
                     }
                     Lane::Apart => {
                         checked[1] += 1;
-                        assert!(!(distance < ra + rb) && !before[l].active && !out[l].touching);
+                        assert!(!(distance < ra + rb) && !before[l].active() && !out[l].touching);
                     }
                     Lane::Scalar => {
                         checked[2] += 1;

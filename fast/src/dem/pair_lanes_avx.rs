@@ -143,7 +143,7 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let u_t = sub(v_rel, u_n);
     // max(δ, 0) as f64::max takes it for every δ a kept lane can have (δ > 0)
     let root = _mm256_sqrt_pd(_mm256_max_pd(overlap, zero));
-    let eta = _mm256_mul_pd(lanes(|l| touch[l].damping_ratio * c[l].damping_scale), _mm256_sqrt_pd(root));
+    let eta = _mm256_mul_pd(lanes(|l| touch[l].damping_ratio() * c[l].damping_scale), _mm256_sqrt_pd(root));
     let f_n = sub(scale(normal, _mm256_mul_pd(lanes(|l| -c[l].normal_stiffness), _mm256_mul_pd(overlap, root))), scale(u_n, eta));
     let old_delta = gather(|l| touch[l].tangential_overlap);
     let old_length_sq = dot(old_delta, old_delta);
@@ -182,14 +182,14 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let mut result = [Lane::Scalar; 4];
     for l in 0..4 {
         if touching & (1 << l) == 0 {
-            if !touch[l].active {
+            if !touch[l].active() {
                 out[l].touching = false;
                 result[l] = Lane::Apart;
             }
             continue;
         }
         let near_fault = distance[l] == 0.0 || overlap[l] > MAX_OVERLAP_RATIO * ra[l].min(rb[l]);
-        if !touch[l].active || near_fault {
+        if !touch[l].active() || near_fault {
             continue;
         }
         touch[l].tangential_overlap = delta[l];

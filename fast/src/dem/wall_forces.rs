@@ -49,6 +49,18 @@ pub struct FarFromWalls {
     epoch: u64,
 }
 
+impl FarFromWalls {
+    /// Whether the particle, found far from every wall in the walls' `epoch`, stays so (its
+    /// [`evaluate_walls`] returns false) for as long as the neighbour list built at `built_at`
+    /// lasts and no wall moves: the list lasts while no particle moves more than half the
+    /// `skin` from where it was built, so a particle within 0.49 skin of where it was found far
+    /// stays within 0.99 skin of there ([`STILL_WALL_REACH`]; the 0.01 skin between the two is
+    /// far above the round-off of the lengths).
+    pub fn stays_far_while_listed(&self, built_at: &Vec3, epoch: u64, skin: f64) -> bool {
+        self.epoch == epoch && (built_at - self.world).norm_squared() <= (0.49 * skin) * (0.49 * skin)
+    }
+}
+
 /// The squared fraction of the skin a particle far from a wall that keeps its pose may move
 /// before its near triangles are looked for again: (0.99)², a margin far above the round-off
 /// between world and body lengths.
