@@ -13,6 +13,8 @@
 #         (default target/release/spillage, or under $CARGO_TARGET_DIR; build with
 #         cargo build --release). Copy a binary aside before rebuilding to compare two builds.
 #   TOP   functions listed per binary (default 12; 0: none)
+#   CACHE a simulated last-level cache of this many bytes (a power of two, e.g. 4194304, the
+#         size of a core's L2 on the 2-core VMs): adds its misses per particle-step (slower)
 # Skips cleanly (exit 0) when valgrind is absent (apt-get install valgrind).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -38,11 +40,17 @@ for bin in "${bins[@]}"; do
 done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-printf '%-40s %18s %14s %22s\n' binary instructions particle-steps instructions/particle-step
+sim=(--cache-sim=no)
+header=""
+if [ -n "${CACHE:-}" ]; then
+  sim=(--cache-sim=yes "--LL=$CACHE,16,64")
+  header="misses/particle-step"
+fi
+printf '%-40s %18s %14s %22s %20s\n' binary instructions particle-steps instructions/particle-step "$header"
 for i in "${!bins[@]}"; do
   bin=${bins[$i]}
   out="$work/run$i"
-  valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file="$work/cg$i.out" \
+  valgrind --tool=cachegrind "${sim[@]}" --cachegrind-out-file="$work/cg$i.out" \
     "$bin" run "$case_file" --out "$out" --threads 1 >"$work/log$i" 2>&1 || {
     echo "instructions.sh: $bin failed on $case_file; its output:" >&2
     tail -5 "$work/log$i" >&2
@@ -53,13 +61,20 @@ for i in "${!bins[@]}"; do
   steps=$(awk -F, 'NR == 1 { for (c = 1; c <= NF; c++) { if ($c == "substeps") s = c; if ($c == "particles") p = c } next }
                    { n += $s * $p } END { printf "%.0f", n }' "$out/series.csv")
   per=$(awk -v t="$total" -v n="$steps" 'BEGIN { if (n > 0) printf "%.1f", t / n; else print "n/a" }')
-  printf '%-40s %18s %14s %22s\n' "$(basename "$bin")" "$total" "$steps" "$per"
+  misses=""
+  if [ -n "${CACHE:-}" ]; then
+    ll=$(grep -E 'LL misses:' "$work/log$i" | tail -1 | sed 's/.*misses: *//; s/ .*//; s/,//g')
+    misses=$(awk -v m="$ll" -v n="$steps" 'BEGIN { if (n > 0) printf "%.3f", m / n; else print "n/a" }')
+  fi
+  printf '%-40s %18s %14s %22s %20s\n' "$(basename "$bin")" "$total" "$steps" "$per" "$misses"
   cp "$work/cg$i.out" "$work/keep$i.out"
 done
 if [ "${TOP:-12}" -gt 0 ]; then
+  events=Ir
+  if [ -n "${CACHE:-}" ]; then events=Ir,DLmr,DLmw; fi
   for i in "${!bins[@]}"; do
     echo
-    echo "== $(basename "${bins[$i]}"): functions by instructions (inlined code counted where it is written)"
-    cg_annotate "$work/keep$i.out" 2>/dev/null | awk '/file:function/ { on = 1; getline; next } on && NF == 0 { exit } on' | head -n "${TOP:-12}" | cut -c1-160
+    echo "== $(basename "${bins[$i]}"): functions by instructions${CACHE:+, then the simulated cache read and write misses} (inlined code counted where it is written)"
+    cg_annotate --show="$events" "$work/keep$i.out" 2>/dev/null | awk '/file:function/ { on = 1; getline; next } on && NF == 0 { exit } on' | head -n "${TOP:-12}" | cut -c1-160
   done
 fi
