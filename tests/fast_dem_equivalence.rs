@@ -144,8 +144,6 @@ fn wear_cases() {
 /// of 3 skins does).
 #[test]
 fn spheres_meeting_a_still_wall_from_afar() {
-    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/verification/dem/dry_restitution.toml");
-    let text = std::fs::read_to_string(&source).unwrap();
     let edits = [
         ("gravity = [0.0, 0.0, 0.0]", "gravity = [0.0, 0.0, -9.81]"),
         ("dt = 1e-4", "dt = 1e-3"),
@@ -156,21 +154,8 @@ fn spheres_meeting_a_still_wall_from_afar() {
         ),
         ("velocities = [[0.0, 0.0, -1.0]]", "velocities = [[0.0, 0.0, -0.2], [0.0, 0.0, -1.0], [0.3, 0.0, -1.0], [0.0, 0.0, 0.3], [0.0, -0.5, -0.05]]"),
     ];
-    let text = edits.iter().fold(text, |t, (from, to)| {
-        assert!(t.contains(from), "{from} not in {}", source.display());
-        t.replace(from, to)
-    });
-    let dir = std::env::temp_dir().join(format!("spillage-far-wall-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("far_wall.toml");
-    std::fs::write(&path, text).unwrap();
-    let c = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
     // 70 steps of 20 sub-steps: the highest sphere lands at ≈ 30 ms, the rising one at ≈ 61 ms
-    let e = compare_particle_phases(&c, 1400, 70).unwrap_or_else(|e| panic!("{e:#}"));
-    std::fs::remove_dir_all(&dir).ok();
-    eprintln!("far wall: {} sub-steps, worst {:.3e} in {} at step {}", e.substeps, e.worst, e.worst_field, e.worst_step);
-    assert!(e.substeps >= 1400);
-    assert!(e.worst <= PARTICLE_TOLERANCE, "step {}: {} differs by {:e} of its scale", e.worst_step, e.worst_field, e.worst);
+    compare_on_the_plate("far wall", &edits, 70, 1400);
 }
 
 /// A still wall closed on between two builds of the neighbour list: while the list and the
@@ -184,8 +169,6 @@ fn spheres_meeting_a_still_wall_from_afar() {
 /// 0.7 skin fails `spheres_meeting_a_still_wall_from_afar`).
 #[test]
 fn a_still_wall_closed_on_between_list_builds() {
-    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/verification/dem/dry_restitution.toml");
-    let text = std::fs::read_to_string(&source).unwrap();
     // d = 10 mm, skin 1 mm; 2 m/s over 5e-5 s sub-steps is 0.1 mm a sub-step; the first drift
     // comes before the first look, so it starts 1.15 mm above the plate
     let edits = [
@@ -194,21 +177,29 @@ fn a_still_wall_closed_on_between_list_builds() {
         ("positions = [[0.0, 0.0, 0.0051]]", "positions = [[0.0, 0.0, 0.00615]]"),
         ("velocities = [[0.0, 0.0, -1.0]]", "velocities = [[0.0, 0.0, -2.0]]"),
     ];
+    // 3 steps of 20 sub-steps: the contact begins at the 12th
+    compare_on_the_plate("closing wall", &edits, 3, 60);
+}
+
+/// The dry-restitution case (spheres over a still plate) with `edits` made to its text, both
+/// particle phases compared after every one of `steps` steps (at least `substeps` sub-steps).
+fn compare_on_the_plate(name: &str, edits: &[(&str, &str)], steps: u64, substeps: u64) {
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/verification/dem/dry_restitution.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
     let text = edits.iter().fold(text, |t, (from, to)| {
         assert!(t.contains(from), "{from} not in {}", source.display());
         t.replace(from, to)
     });
-    let dir = std::env::temp_dir().join(format!("spillage-closing-wall-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("spillage-{}-{}", name.replace(' ', "-"), std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("closing_wall.toml");
+    let path = dir.join("plate.toml");
     std::fs::write(&path, text).unwrap();
     let c = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    // 3 steps of 20 sub-steps: the contact begins at the 12th
-    let e = compare_particle_phases(&c, 60, 3).unwrap_or_else(|e| panic!("{e:#}"));
+    let e = compare_particle_phases(&c, substeps, steps).unwrap_or_else(|e| panic!("{e:#}"));
     std::fs::remove_dir_all(&dir).ok();
-    eprintln!("closing wall: {} sub-steps, worst {:.3e} in {} at step {}", e.substeps, e.worst, e.worst_field, e.worst_step);
-    assert!(e.substeps >= 60);
-    assert!(e.worst <= PARTICLE_TOLERANCE, "step {}: {} differs by {:e} of its scale", e.worst_step, e.worst_field, e.worst);
+    eprintln!("{name}: {} sub-steps, worst {:.3e} in {} at step {}", e.substeps, e.worst, e.worst_field, e.worst_step);
+    assert!(e.substeps >= substeps);
+    assert!(e.worst <= PARTICLE_TOLERANCE, "{name}, step {}: {} differs by {:e} of its scale", e.worst_step, e.worst_field, e.worst);
 }
 
 /// The cutter head fed with rock takes one sub-step per step at ≈ 0.4 s a step per phase:

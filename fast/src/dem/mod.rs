@@ -96,9 +96,9 @@ pub struct FastDem {
 
 /// The particles that may touch a wall before the neighbour list is built again, while no
 /// wall moves: the others stay far from every wall ([`FarFromWalls::stays_far_while_listed`]),
-/// and the wall pass skips them without reading their memory (in a settled bed, 85 % of the
-/// particles and half a megabyte per sub-step of the 10⁴ bed, which then fits a 4 MB cache
-/// better). Walls that move at every sub-step (a turning head) are never marked for.
+/// and the wall pass skips them without reading their memory (85 % of the 10⁴ settling bed:
+/// half a megabyte less per sub-step). With walls that move at every sub-step (a turning head)
+/// no marks are made and every particle is looked at, as before.
 #[derive(Default)]
 struct WallCandidates {
     /// Per particle (internal order): it may touch a wall.

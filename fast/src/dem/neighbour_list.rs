@@ -30,7 +30,8 @@ pub struct Pair {
 /// The part of a pair's contact history every sub-step reads and updates, kept apart from the
 /// rest of its [`ContactRecord`] so the sub-steps stream 32 bytes per pair, not the record's
 /// hundred: the pair loop is bound by memory traffic (with a flag of its own for "touching"
-/// the entry took 40 bytes, and the 10⁴ bed's sub-step no longer fitted a 4 MB cache).
+/// the entry took 40 bytes, a fifth more of a stream that, with the particles' arrays,
+/// overflows a core's 4 MB cache in the 10⁴ bed: README, "The fast particle path").
 #[derive(Clone, Copy, Debug)]
 pub struct Touch {
     pub tangential_overlap: Vec3,
