@@ -67,7 +67,6 @@ for i in "${!bins[@]}"; do
     misses=$(awk -v m="$ll" -v n="$steps" 'BEGIN { if (n > 0) printf "%.3f", m / n; else print "n/a" }')
   fi
   printf '%-40s %18s %14s %22s %20s\n' "$(basename "$bin")" "$total" "$steps" "$per" "$misses"
-  cp "$work/cg$i.out" "$work/keep$i.out"
 done
 if [ "${TOP:-12}" -gt 0 ]; then
   events=Ir
@@ -75,6 +74,6 @@ if [ "${TOP:-12}" -gt 0 ]; then
   for i in "${!bins[@]}"; do
     echo
     echo "== $(basename "${bins[$i]}"): functions by instructions${CACHE:+, then the simulated cache read and write misses} (inlined code counted where it is written)"
-    cg_annotate --show="$events" "$work/keep$i.out" 2>/dev/null | awk '/file:function/ { on = 1; getline; next } on && NF == 0 { exit } on' | head -n "${TOP:-12}" | cut -c1-160
+    cg_annotate --show="$events" "$work/cg$i.out" 2>/dev/null | awk '/file:function/ { on = 1; getline; next } on && NF == 0 { exit } on' | head -n "${TOP:-12}" | cut -c1-160
   done
 fi
