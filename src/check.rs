@@ -171,7 +171,10 @@ fn head_lines(case: &Case) -> Vec<String> {
     let omega = rotor.angular_velocity().abs();
     let rpm = omega * 60.0 / std::f64::consts::TAU;
     let r_c = head.contour[0][1];
-    let pipe_area = std::f64::consts::PI * (head.opening_radius().powi(2) - head.shaft_radius.powi(2));
+    let pipe_area = match head.eccentric_mouth() {
+        Some(mouth) => mouth.area(),
+        None => std::f64::consts::PI * (head.opening_radius().powi(2) - head.shaft_radius.powi(2)),
+    };
     let v_m = head.suction_discharge / pipe_area;
     let mut lines = vec![
         format!("head         {} blades, R_c {r_c} m, H {} m, {rpm:.1} rpm, Q_m {} m³/s", head.blades, head.height(), head.suction_discharge),

@@ -209,6 +209,13 @@ fn fed_cutter_head() {
     compare_over("cutter_head_feed.toml", 20, 20);
 }
 
+/// The head with the eccentric mouth: its batch between the turning blades under the back plate
+/// at rest (a static wall beside the turning ones); 20 steps as above.
+#[test]
+fn cutter_head_with_an_eccentric_mouth() {
+    compare_over("cutter_head_eccentric.toml", 20, 20);
+}
+
 /// The same bits on 1 and 2 threads: every sum is taken in a fixed order, and one thread adds
 /// each pair to its particles as it goes while two sum them per particle afterwards. The pile
 /// (contacts in a box), the hindered-settling cloud (two-way coupled: the fast DEM with the

@@ -19,6 +19,19 @@ fn parse(text: &str) -> Result<Case, String> {
     Case::from_toml(text, Path::new("cases/bad.toml")).map_err(|e| e.to_string())
 }
 
+/// Every (what, text, needles) is refused with a message holding every needle.
+fn assert_refused(bad: Vec<(&str, String, Vec<&str>)>) {
+    for (what, text, needles) in bad {
+        let message = match parse(&text) {
+            Ok(_) => panic!("{what}: accepted a bad case"),
+            Err(m) => m,
+        };
+        for needle in needles {
+            assert!(message.contains(needle), "{what}: message lacks {needle:?}:\n{message}");
+        }
+    }
+}
+
 fn inlet(case: &Case, patch: &str) -> [f64; 3] {
     match &case.boundary[patch] {
         BoundaryCondition::VelocityInlet { velocity, profile: None } => *velocity,
@@ -70,15 +83,7 @@ fn bad_haul_velocities_get_a_located_error() {
             vec![&tank_at, "boundary.tank", "still tank"],
         ),
     ];
-    for (what, text, needles) in bad {
-        let message = match parse(&text) {
-            Ok(_) => panic!("{what}: accepted a bad case"),
-            Err(m) => m,
-        };
-        for needle in needles {
-            assert!(message.contains(needle), "{what}: message lacks {needle:?}:\n{message}");
-        }
-    }
+    assert_refused(bad);
 }
 
 #[test]
@@ -87,4 +92,34 @@ fn a_fast_swing_is_allowed_with_a_warning() {
     let warnings = spillage_model::case::unusual::warnings(&case);
     assert!(warnings.iter().any(|w| w.contains("cutter_head.haul_velocity") && w.contains("fast swing")), "{warnings:?}");
     assert!(spillage_model::case::unusual::warnings(&parse(&shipped()).unwrap()).iter().all(|w| !w.contains("haul")));
+}
+
+/// The eccentric mouth (cutter_head::mouth) of `cases/cutter_head_eccentric.toml`: bad shapes,
+/// and a mouth over cells the blades' staircase blocks, are refused naming the line, the key,
+/// the value and what fits.
+#[test]
+fn bad_eccentric_mouths_get_a_located_error() {
+    const MOUTH: &str = "suction = { type = \"eccentric\", angle = 180.0, width = 103.0, radii = [0.07, 0.2] }";
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/cutter_head_eccentric.toml")).unwrap();
+    assert!(text.contains(MOUTH));
+    parse(&text).unwrap();
+    let line = text.lines().position(|l| l.starts_with("suction =")).unwrap() + 1;
+    let at = format!("cases/bad.toml:{line}:");
+    let with = |m: &str| text.replace(MOUTH, &format!("suction = {{ type = \"eccentric\", {m} }}"));
+    let bad: Vec<(&str, String, Vec<&str>)> = vec![
+        ("too wide", with("angle = 0.0, width = 200.0, radii = [0.07, 0.2]"), vec![&at, "cutter_head.suction.width", "200", "(0, 180]"]),
+        (
+            "inside the shaft",
+            with("angle = 0.0, width = 90.0, radii = [0.05, 0.2]"),
+            vec![&at, "cutter_head.suction.radii", "[0.05, 0.2]", "shaft_radius = 0.06"],
+        ),
+        ("reversed radii", with("angle = 0.0, width = 90.0, radii = [0.2, 0.1]"), vec![&at, "cutter_head.suction.radii", "inner < outer"]),
+        (
+            "over the blades",
+            with("angle = 0.0, width = 90.0, radii = [0.07, 0.27]"),
+            vec![&at, "cutter_head.suction.radii", "[0.07, 0.27]", "radii within [0.06, "],
+        ),
+        ("no angle", with("width = 90.0, radii = [0.07, 0.2]"), vec![&at, "angle"]),
+    ];
+    assert_refused(bad);
 }

@@ -262,19 +262,31 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
 /// §5.1; ours by 2.4 % at 5 cm cells).
 const NEGLIGIBLE_OUTFLOW: f64 = 0.05;
 
+/// The thesis' back-plate head's mouth as `cases/cutter_head_eccentric.toml` has it: a 103° kidney
+/// between 0.07 and 0.2 m (0.0316 m², §2.11) at rest, facing the bed (azimuth 180°).
+const THESIS_MOUTH: spillage_model::cutter_head::Suction = spillage_model::cutter_head::Suction::Eccentric { angle: 180.0, width: 103.0, radii: [0.07, 0.2] };
+
 /// Check 2's second half (§5.2): at 20 rpm the axial head draws water in over its whole contour
-/// (negligible outflow) while the back-plate head already spills water.
+/// (negligible outflow) while the back-plate head already spills water: the case's own suction,
+/// and the thesis' eccentric mouth at rest ([`THESIS_MOUTH`]) unless the case has it already.
 fn twenty_rpm(case: &Case) -> Result<Vec<CheckRow>> {
     use spillage_model::cutter_head::Suction;
     let name = &case.case.name;
-    let q_m = case.cutter_head.as_ref().map_or(f64::NAN, |h| h.suction_discharge);
+    let head = case.cutter_head.as_ref().ok_or_else(|| anyhow!("{name}: check 2 needs [cutter_head]"))?;
+    let q_m = head.suction_discharge;
+    let mut heads = vec![("back-plate", None)];
+    if !matches!(head.suction, Suction::Eccentric { .. }) {
+        heads.push(("back-plate with the eccentric mouth at rest", Some(THESIS_MOUTH)));
+    }
+    heads.push(("axial", Some(Suction::Axial)));
     let mut rows = Vec::new();
-    for (label, axial) in [("back-plate", false), ("axial", true)] {
+    for (label, suction) in heads {
+        let axial = suction == Some(Suction::Axial);
         let c = with(case, |c| {
             let rotor = c.rotor.as_mut().expect("validated");
             (rotor.rpm, rotor.omega) = (Some(20.0), None);
-            if axial {
-                c.cutter_head.as_mut().expect("validated").suction = Suction::Axial;
+            if let Some(s) = &suction {
+                c.cutter_head.as_mut().expect("validated").suction = s.clone();
             }
         })?;
         let means = mean_fluxes(&c)?;
@@ -291,7 +303,7 @@ fn twenty_rpm(case: &Case) -> Result<Vec<CheckRow>> {
         } else {
             CheckRow::at_least(
                 name,
-                "back-plate head at 20 rpm: out-flowing flux through the contour / Q_m (thesis: outflow already)",
+                format!("{label} head at 20 rpm: out-flowing flux through the contour / Q_m (thesis: outflow already)"),
                 SOLVER,
                 ratio,
                 NEGLIGIBLE_OUTFLOW,

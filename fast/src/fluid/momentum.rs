@@ -146,6 +146,9 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
             let diffusivity = viscosity.boundary(bnd.face[b] as usize - n_internal_faces) * alpha_p;
             let diffusion = diffusivity * bnd.area[b].norm() / bnd.normal_distance[b];
             match disc.condition(b) {
+                // the mouth's share lets the water out at the cell's velocity, the rest is the
+                // plate at rest (reference fluid momentum.rs)
+                Condition::FixedVelocity { suction: Some(window), .. } => diag += alpha_p * relative_flux + (1.0 - window.share(&bnd.centre[b])) * diffusion,
                 Condition::FixedVelocity { .. } => {
                     source -= boundary_velocity[b] * (alpha_p * relative_flux);
                     diag += diffusion;

@@ -33,7 +33,7 @@ use super::momentum::{self, MomentumInputs, MomentumSolve};
 use super::pressure_corrector::{self, CorrectorFields, CorrectorInputs, PressureSolver};
 use super::settings::{FastSettings, SolveCounts};
 use super::starting_values::{
-    boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels,
+    balance_suction, boundary_starting_values, ddt_flux_corrections, starting_link_fluxes, time_levels_from_state, BoundaryStart, MovedCells, OldLevels,
 };
 use super::step_inputs::{Discretisation, ParticleSources, StepConstants, StepSolution, TimeStep, VolumeFractions};
 use super::turbulence::{FastTurbulence, TurbulenceInputs};
@@ -266,6 +266,9 @@ impl FastFluid {
 
         // 2. geometry of the new position
         self.update_geometry();
+        if let Some(suction) = self.conditions.suction_condition() {
+            balance_suction(&self.boundary, &mut self.conditions, suction, self.rotor.as_ref(), &self.fluid, &self.mesh.cell_volumes, time)?;
+        }
 
         // 3. starting values
         let fluid = &self.fluid;

@@ -4,9 +4,11 @@
 //! (their geometry changed); the time-derivative flux correction; and the boundary data of the
 //! conditions: boundary pressures from the state, fixed velocities, prescribed fluxes.
 
-use spillage_model::fluid::conditions::Conditions;
+use spillage_model::cutter_head::mouth::balancing_speed;
+use spillage_model::fluid::conditions::{fluid_volume_rate, Conditions};
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::Vec3;
+use spillage_model::solver::SolverError;
 
 use super::assembly::{par_for, vec_of, Out};
 use super::layout::{rotor_velocity, Boundary, Links, Rotor};
@@ -136,4 +138,35 @@ pub fn boundary_starting_values(
         out.prescribed_flux[b] = prescribed.unwrap_or(f64::NAN);
         out.boundary_flux[b] = prescribed.unwrap_or(fluid.flux[face]);
     }
+}
+
+/// Sets the suction mouth's speed of the step (`condition` carries it): the speed at which the
+/// water leaves through it what continuity leaves for it (spillage_model::cutter_head::mouth::
+/// balancing_speed), from the prescribed fluxes at unit speed, each weighted by α of its cell.
+pub fn balance_suction(
+    boundary: &Boundary,
+    conditions: &mut Conditions,
+    condition: usize,
+    rotor: Option<&Rotor>,
+    fluid: &FluidState,
+    volumes: &[f64],
+    time: TimeStep,
+) -> Result<(), SolverError> {
+    conditions.set_suction_speed(1.0);
+    let (mut unit, mut other) = (0.0, 0.0);
+    for b in 0..boundary.len() {
+        let c = boundary.condition[b] as usize;
+        if let Some(flux) = conditions.prescribed_flux(c, &boundary.centre[b], &boundary.area[b], boundary.mesh_flux[b], rotor_velocity(rotor)) {
+            let weighted = fluid.alpha[boundary.cell[b] as usize] * flux;
+            if c == condition {
+                unit += weighted;
+            } else {
+                other += weighted;
+            }
+        }
+    }
+    let rate = fluid_volume_rate([&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old], volumes, time.coefficients, time.dt);
+    let speed = balancing_speed(unit, other, rate).map_err(SolverError::Unsupported)?;
+    conditions.set_suction_speed(speed);
+    Ok(())
 }

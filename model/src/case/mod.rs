@@ -148,18 +148,37 @@ impl Case {
 
     /// A cutter head's tank floor gets the uniform upward velocity that carries
     /// `cutter_head.suction_discharge` in through the exact area of its faces, and the pipe's
-    /// end a fixed-pressure outlet ([`crate::cutter_head::fluid_mesh::FLOW_PATCHES`]). With a
+    /// end a fixed-pressure outlet ([`crate::cutter_head::fluid_mesh::FLOW_PATCHES`]); an
+    /// eccentric mouth's back plate a wall at rest that lets Q_m out over the mouth. With a
     /// `haul_velocity` the floor and the tank's side also carry the current, the far field of
     /// [`crate::cutter_head::current`] (the file's `[boundary.tank]` is kept for still water).
     fn add_suction_condition(&mut self) -> Result<(), FieldError> {
         use crate::cutter_head::current;
         let Some(head) = &self.cutter_head else { return Ok(()) };
-        let area = crate::cutter_head::fluid_mesh::floor_area(head)
-            .map_err(|e| FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"))?;
+        // an input of the head the generator refuses is named as the generator names it
+        let refused = |e: crate::mesh::MeshError| match e {
+            crate::mesh::MeshError::InvalidInput { input, value, allowed } if input.starts_with("cutter_head.") => FieldError::new(input, value, allowed),
+            e => FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"),
+        };
+        let area = crate::cutter_head::fluid_mesh::floor_area(head).map_err(refused)?;
         let velocity = head.suction_discharge / area;
         let tank = current::tank_condition(head);
         self.boundary.insert("floor".into(), current::floor_condition(head, velocity));
-        self.boundary.insert("suction".into(), BoundaryCondition::PressureOutlet { pressure: 0.0 });
+        let window = crate::cutter_head::fluid_mesh::suction_window(head).map_err(refused)?;
+        let suction = match window {
+            // the back plate at rest with its mouth; the pressure level is then set by a reference
+            // cell, as every other boundary fixes the flux
+            Some(window) => BoundaryCondition::Wall {
+                velocity: [0.0; 3],
+                rotating: false,
+                angular_velocity: 0.0,
+                axis: [0.0, 0.0, 1.0],
+                origin: [0.0; 3],
+                suction: Some(window),
+            },
+            None => BoundaryCondition::PressureOutlet { pressure: 0.0 },
+        };
+        self.boundary.insert("suction".into(), suction);
         if let Some(tank) = tank {
             self.still_tank = self.boundary.insert("tank".into(), tank);
         }

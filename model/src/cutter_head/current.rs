@@ -110,8 +110,14 @@ mod tests {
 
     #[test]
     fn only_a_still_tank_gives_way_to_the_current() {
-        let wall =
-            |velocity: [f64; 3], rotating: bool| BoundaryCondition::Wall { velocity, rotating, angular_velocity: 0.0, axis: [0.0, 0.0, 1.0], origin: [0.0; 3] };
+        let wall = |velocity: [f64; 3], rotating: bool| BoundaryCondition::Wall {
+            velocity,
+            rotating,
+            angular_velocity: 0.0,
+            axis: [0.0, 0.0, 1.0],
+            origin: [0.0; 3],
+            suction: None,
+        };
         assert!(still_tank(&wall([0.0; 3], false)));
         assert!(still_tank(&BoundaryCondition::Symmetry));
         assert!(!still_tank(&wall([0.1, 0.0, 0.0], false)));

@@ -9,22 +9,27 @@
 
 use std::f64::consts::TAU;
 
-use super::geometry::CutterHead;
+use super::geometry::{CutterHead, Part};
+use super::mouth::SuctionWindow;
 use super::settings::{BladeCells, CutterHeadSection};
 use crate::mesh::cartesian::graded_edges;
 use crate::mesh::{BlockedRotorStator, Mesh, MeshError, BLOCKED_ROTOR_STATOR_PATCHES};
 
 /// The patches of the head's mesh: `shaft` (the rotating shaft), `tank` (the tank wall),
 /// `floor`, `top` (the water surface around the pipe), `head` (every face of the head's
-/// solids), `suction` (the end of the pipe). The case gives conditions for all but `floor` and
-/// `suction`, which [`crate::case::Case`] sets from `suction_discharge` (see [`FLOW_PATCHES`]).
+/// solids), `suction` (the end of the pipe; with an eccentric mouth, every face of the back
+/// plate and its housing at rest, [`super::mouth`]). The case gives conditions for all but
+/// `floor` and `suction`, which [`crate::case::Case`] sets from `suction_discharge` (see
+/// [`FLOW_PATCHES`]).
 pub const PATCHES: [&str; 6] = ["shaft", "tank", "floor", "top", "head", "suction"];
 
 /// The patches whose conditions carry the suction discharge: the water enters uniformly
 /// through the tank floor (Q_m / floor area, upward) and leaves through the pipe's end at
-/// fixed pressure with zero-gradient velocity. (The thesis fed the tank through its side,
-/// §4.2; a fixed velocity at the pipe's end, which turns with the rotor, blocks the swirl
-/// leaving the pipe and grew a 35 m/s azimuthal jet in the top cells in our tests.)
+/// fixed pressure with zero-gradient velocity, or through an eccentric mouth in the back plate
+/// at the flux continuity leaves it, again at zero-gradient velocity ([`super::mouth`]). (The
+/// thesis fed the tank through its side, §4.2; a fixed velocity at the pipe's end, which turns
+/// with the rotor, blocks the swirl leaving the pipe and grew a 35 m/s azimuthal jet in the top
+/// cells in our tests; a fixed velocity through the eccentric mouth grew one of 13 m/s.)
 pub const FLOW_PATCHES: [&str; 2] = ["floor", "suction"];
 
 fn cells_over(length: f64, size: f64) -> usize {
@@ -65,25 +70,33 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
     let n_theta_rotor = ((TAU * head.radius_at(0.0) / h).ceil() as usize).max(3);
     let n_theta_stator = ((TAU * ri / h).ceil() as usize).max(3);
     let n_r = rotor_r.len() - 1;
-    let mut blocked = Vec::with_capacity(n_r * n_theta_rotor * (z.len() - 1));
+    let n_slots = n_r * n_theta_rotor * (z.len() - 1);
+    let (mut blocked, mut stationary) = (Vec::with_capacity(n_slots), Vec::with_capacity(n_slots));
     for k in 0..z.len() - 1 {
         for j in 0..n_theta_rotor {
             let theta = [TAU * j as f64 / n_theta_rotor as f64, TAU * (j + 1) as f64 / n_theta_rotor as f64];
             for i in 0..n_r {
                 let (r, z) = ([rotor_r[i], rotor_r[i + 1]], [z[k], z[k + 1]]);
-                blocked.push(match section.mesh.blades {
-                    BladeCells::Blocked => head.touches_solid(r, theta, z).is_some(),
-                    BladeCells::Baffles => head.touches_plate(r, z).is_some(),
-                });
+                let solid = match section.mesh.blades {
+                    BladeCells::Blocked => head.touches_solid(r, theta, z),
+                    BladeCells::Baffles => head.touches_plate(r, z),
+                };
+                blocked.push(solid.is_some());
+                stationary.push(solid == Some(Part::BackPlate));
             }
         }
     }
+    let suction_radius = if head.mouth.is_some() { 0.0 } else { head.opening_radius };
     let mut spec =
-        BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, baffles: Vec::new(), suction_radius: head.opening_radius };
+        BlockedRotorStator { rotor_r, stator_r, z_edges: z, n_theta_rotor, n_theta_stator, blocked, baffles: Vec::new(), suction_radius, stationary };
     if section.mesh.blades == BladeCells::Baffles {
         spec.add_baffles_where(|a, b| head.blade_between(a, b).is_some());
     }
     spec.close_pockets();
+    if let Some(mouth) = head.mouth {
+        check_mouth_over_open_cells(&spec, mouth.radii)?;
+        return Ok(spec);
+    }
     let top = n_r * n_theta_rotor * (spec.z_edges.len() - 2);
     let pipe_open = (0..n_r).any(|i| !spec.blocked[top + i] && 0.5 * (spec.rotor_r[i] + spec.rotor_r[i + 1]) < head.opening_radius);
     if !pipe_open {
@@ -97,6 +110,40 @@ pub fn blocked_rotor_stator(section: &CutterHeadSection) -> Result<BlockedRotorS
         ));
     }
     Ok(spec)
+}
+
+/// An eccentric mouth must lie over rotor cells that are open under the back plate at every
+/// angle (each ring's whole circle), so that the plate's faces tile it as they turn
+/// ([`SuctionWindow::new`]); the error names the radii that do.
+fn check_mouth_over_open_cells(spec: &BlockedRotorStator, radii: [f64; 2]) -> Result<(), MeshError> {
+    let n_r = spec.rotor_r.len() - 1;
+    let Some(under) = spec.z_edges.iter().position(|&z| z == 0.0).and_then(|k| k.checked_sub(1)) else {
+        return Err(MeshError::input("cutter_head.suction", "(no cell layer under the back plate)", "a mesh with a layer edge at z = 0"));
+    };
+    let slot = |i: usize, j: usize, k: usize| i + n_r * (j + spec.n_theta_rotor * k);
+    let clear = |i: usize| (0..spec.n_theta_rotor).all(|j| !spec.blocked[slot(i, j, under)] && spec.stationary[slot(i, j, under + 1)]);
+    let covered = (0..n_r).filter(|&i| spec.rotor_r[i] < radii[1] && spec.rotor_r[i + 1] > radii[0]);
+    if covered.clone().all(clear) {
+        return Ok(());
+    }
+    let last_clear = (0..n_r).take_while(|&i| clear(i)).last();
+    let allowed = match last_clear {
+        Some(i) => format!(
+            "radii within [{}, {}] m on this mesh (the cells beyond are blocked by the blades' or the ring's staircase; a finer mesh widens it)",
+            spec.rotor_r[0],
+            spec.rotor_r[i + 1]
+        ),
+        None => "a mesh with open cells under the back plate next to the shaft".to_string(),
+    };
+    Err(MeshError::input("cutter_head.suction.radii", format!("{radii:?}"), &allowed))
+}
+
+/// The boundary condition of an eccentric mouth on the back plate's faces of the mesh of
+/// `section` (`None` for the other suctions).
+pub fn suction_window(section: &CutterHeadSection) -> Result<Option<SuctionWindow>, MeshError> {
+    let Some(mouth) = section.eccentric_mouth() else { return Ok(None) };
+    let spec = blocked_rotor_stator(section)?;
+    Ok(Some(SuctionWindow::new(mouth, 0.0, spec.rotor_r, spec.n_theta_rotor, section.suction_discharge)))
 }
 
 /// Area of the `floor` patch: every bottom-layer cell's face, planar annular sectors of area
@@ -291,6 +338,53 @@ pub(crate) mod tests {
             let open = passages_of_connected_groups(&bladeless, &build(&bladeless).unwrap());
             assert_eq!(open.len(), 1, "h = {h}: {open:?}");
         }
+    }
+
+    pub(crate) fn eccentric(cell_size: f64, radii: [f64; 2]) -> CutterHeadSection {
+        let mut section = section(cell_size);
+        section.suction = crate::cutter_head::Suction::Eccentric { angle: 180.0, width: 103.0, radii };
+        section
+    }
+
+    /// The back plate at rest: every face toward it is in `suction` (none in `head`, which
+    /// turns), it closes the inner ring area at z = 0 except the shaft, and the rest of it is
+    /// the housing's side above the ring; the mouth's faces at unit shares are the plate's.
+    #[test]
+    fn an_eccentric_mouth_lies_in_a_back_plate_at_rest() {
+        let section = eccentric(0.04, [0.07, 0.2]);
+        let mesh = build(&section).unwrap();
+        assert_cells_closed(&mesh);
+        assert_boundary_faces_outward(&mesh);
+        let suction = mesh.patch("suction").unwrap();
+        let spec = blocked_rotor_stator(&section).unwrap();
+        let n_t = spec.n_theta_rotor;
+        // the plate: the tops of the open cells under z = 0 inside the ring (up to the edge
+        // below its inner radius), planar annular sectors
+        let plate: f64 = suction.faces().filter(|&f| mesh.face_centres[f].z.abs() < 1e-12).map(|f| mesh.face_areas[f].z).sum();
+        let rim = spec.rotor_r.iter().copied().filter(|&r| r <= section.ring_inner_radius).fold(0.0, f64::max);
+        let expected = polygon_ring(n_t, spec.rotor_r[0], rim);
+        assert!((plate - expected).abs() < 1e-12 * expected, "plate {plate} vs {expected}");
+        // the rest faces the axis from outside the housing, above the ring
+        for f in suction.faces().filter(|&f| mesh.face_centres[f].z.abs() >= 1e-12) {
+            let (c, s) = (mesh.face_centres[f], mesh.face_areas[f]);
+            assert!(c.z > section.ring_thickness && s.z.abs() < 1e-12 * s.norm() && s.x * c.x + s.y * c.y < 0.0, "face {f} at {c:?}");
+        }
+        // no face of the head's rotating walls lies on the plate
+        assert!(mesh
+            .patch("head")
+            .unwrap()
+            .faces()
+            .all(|f| mesh.face_centres[f].z.abs() > 1e-12 || mesh.face_centres[f].x.hypot(mesh.face_centres[f].y) > rim));
+        // the window carries Q_m through these faces at the mesh's rest angle
+        let window = suction_window(&section).unwrap().unwrap();
+        let q: f64 = suction.faces().map(|f| window.velocity(&mesh.face_centres[f]).dot(&mesh.face_areas[f])).sum();
+        assert!((q - section.suction_discharge).abs() < 1e-14, "{q}");
+    }
+
+    #[test]
+    fn a_mouth_over_the_blades_staircase_is_refused_with_the_radii_that_fit() {
+        let err = blocked_rotor_stator(&eccentric(0.05, [0.07, 0.27])).unwrap_err().to_string();
+        assert!(err.contains("cutter_head.suction.radii") && err.contains("radii within [0.06, "), "{err}");
     }
 
     #[test]

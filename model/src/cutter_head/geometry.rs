@@ -15,6 +15,7 @@
 
 use std::f64::consts::TAU;
 
+use super::mouth::EccentricMouth;
 use super::settings::CutterHeadSection;
 
 /// The solid parts, named in errors and outputs.
@@ -24,6 +25,8 @@ pub enum Part {
     Ring,
     Hub,
     Pipe,
+    /// The stationary back plate and the pipe housing above it (an eccentric mouth's head).
+    BackPlate,
 }
 
 /// The validated geometry of `[cutter_head]`, SI units and radians.
@@ -47,6 +50,8 @@ pub struct CutterHead {
     pub pipe_wall: f64,
     pub capture_height: f64,
     pub suction_discharge: f64,
+    /// The eccentric, stationary mouth in a back plate at rest, if the head has one.
+    pub mouth: Option<EccentricMouth>,
 }
 
 fn overlaps(a0: f64, a1: f64, b0: f64, b1: f64) -> bool {
@@ -71,6 +76,7 @@ impl CutterHead {
             pipe_wall: section.pipe_wall,
             capture_height: section.capture_height,
             suction_discharge: section.suction_discharge,
+            mouth: section.eccentric_mouth(),
         }
     }
 
@@ -136,13 +142,19 @@ impl CutterHead {
         0.5 * self.blade_thickness / (r * self.blade_angle_at(z).sin())
     }
 
-    /// The axisymmetric plates: (part, r range, z range).
+    /// The axisymmetric plates: (part, r range, z range). With an eccentric mouth the third is
+    /// the stationary back plate, solid from the shaft to the ring and from the ring's
+    /// underside to the domain's top (the mouth is a boundary condition on its underside).
     pub fn plates(&self) -> [(Part, [f64; 2], [f64; 2]); 3] {
         let h = self.height();
+        let above_ring = match self.mouth {
+            None => (Part::Pipe, [self.opening_radius, self.opening_radius + self.pipe_wall], [self.ring_top(), self.pipe_top()]),
+            Some(_) => (Part::BackPlate, [self.shaft_radius, self.opening_radius], [0.0, self.pipe_top()]),
+        };
         [
             (Part::Hub, [self.shaft_radius, self.hub_radius], [self.hub_bottom(), -h]),
             (Part::Ring, [self.opening_radius, self.radius_at(0.0)], [0.0, self.ring_top()]),
-            (Part::Pipe, [self.opening_radius, self.opening_radius + self.pipe_wall], [self.ring_top(), self.pipe_top()]),
+            above_ring,
         ]
     }
 
@@ -233,9 +245,13 @@ impl CutterHead {
         z >= -self.height() && z <= 0.0 && r < self.radius_at(z)
     }
 
-    /// Whether a point is in the suction pipe, `capture_height` above its entrance.
+    /// Whether a point is in the suction pipe, `capture_height` above its entrance; with an
+    /// eccentric mouth, through the back plate (only the mouth lets a particle there).
     pub fn sucked(&self, r: f64, z: f64) -> bool {
-        r < self.opening_radius && z >= self.ring_top() + self.capture_height
+        match self.mouth {
+            None => r < self.opening_radius && z >= self.ring_top() + self.capture_height,
+            Some(_) => r < self.opening_radius && z > 0.0,
+        }
     }
 
     /// Whether a sphere of radius `a` centred at body-frame cylindrical (r, θ, z) is clear of

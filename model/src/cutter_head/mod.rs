@@ -3,8 +3,9 @@
 //! (the same solids as triangle meshes turning with the rotor, [`walls`]) and the spillage
 //! bookkeeping (the contour hull, the suction pipe, [`spillage`]), the fluxes through the hull
 //! ([`fluxes`]: the solver's face fluxes and the thesis' interpolated surface, [`hull_surface`]),
-//! the rotor's torque balance on the computed flow ([`torque`]) and the haul velocity, a current
-//! past the head ([`current`]).
+//! the rotor's torque balance on the computed flow ([`torque`]), the haul velocity, a current
+//! past the head ([`current`]), and the thesis' eccentric suction mouth at rest in a back plate
+//! ([`mouth`]).
 //! spillage-and-flow-verification.md §2, §4, §5.
 
 pub mod current;
@@ -12,6 +13,7 @@ pub mod fluid_mesh;
 pub mod fluxes;
 pub mod geometry;
 pub mod hull_surface;
+pub mod mouth;
 pub mod settings;
 pub mod spillage;
 pub mod torque;

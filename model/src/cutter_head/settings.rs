@@ -46,11 +46,13 @@ pub struct CutterHeadSection {
     pub suction: Suction,
     /// Suction (mixture) discharge Q_m [m³/s], spread uniformly over the pipe section.
     pub suction_discharge: f64,
-    /// Length of the suction pipe above the ring (the domain ends there) [m].
+    /// Length of the suction pipe above the ring (the domain ends there) [m]. With an eccentric
+    /// mouth the pipe is not meshed: the back plate's housing rises this far.
     pub pipe_length: f64,
-    /// Wall thickness of the suction pipe [m].
+    /// Wall thickness of the suction pipe [m] (not used with an eccentric mouth).
     pub pipe_wall: f64,
-    /// A particle whose centre rises this far into the pipe is counted as sucked [m].
+    /// A particle whose centre rises this far into the pipe is counted as sucked [m] (with an
+    /// eccentric mouth, once its centre passes the plate).
     #[serde(default = "CutterHeadSection::default_capture_height")]
     pub capture_height: f64,
     /// `[[particles.materials]]` entry of the head's steel (DEM walls).
@@ -66,15 +68,21 @@ pub struct CutterHeadSection {
     pub mesh: HeadMeshSection,
 }
 
-/// `suction = { type = "axial" }` or `{ type = "mouth", radius = 0.1 }`.
+/// `suction = { type = "axial" }`, `{ type = "mouth", radius = 0.1 }` or
+/// `{ type = "eccentric", angle = 0.0, width = 100.0, radii = [0.07, 0.2] }`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Suction {
     /// Suction spread uniformly over the inner ring area (the thesis' axial head, §4.1 a).
     Axial,
-    /// A back plate at the ring closing the head except a central mouth of this radius [m].
-    /// (The thesis' eccentric, stationary mouth cannot turn against the rotor mesh yet.)
+    /// A back plate at the ring, turning with the head, closing it except a central mouth of
+    /// this radius [m] that leads into a pipe turning with it.
     Mouth { radius: f64 },
+    /// The thesis' back-plate head (§4.1 b, §4.5): a back plate at rest over the whole inner
+    /// ring area (z = 0, under the ring's top), with a kidney-shaped mouth that stands still
+    /// while the head turns under it ([`super::mouth`]): an annular sector centred on azimuth
+    /// `angle` [deg, world frame], `width` [deg] wide, between `radii` [m].
+    Eccentric { angle: f64, width: f64, radii: [f64; 2] },
 }
 
 /// `[cutter_head.tank]`: the water around the head.
@@ -124,11 +132,22 @@ impl CutterHeadSection {
         0.05
     }
 
-    /// Radius of the opening the mixture leaves through (the pipe's inner radius).
+    /// Radius of the opening the mixture leaves through (the pipe's inner radius); with an
+    /// eccentric mouth, the radius of the back plate (the ring's inner radius).
     pub fn opening_radius(&self) -> f64 {
         match self.suction {
-            Suction::Axial => self.ring_inner_radius,
+            Suction::Axial | Suction::Eccentric { .. } => self.ring_inner_radius,
             Suction::Mouth { radius } => radius,
+        }
+    }
+
+    /// The eccentric mouth's shape, if the suction has one.
+    pub fn eccentric_mouth(&self) -> Option<super::mouth::EccentricMouth> {
+        match self.suction {
+            Suction::Eccentric { angle, width, radii } => {
+                Some(super::mouth::EccentricMouth { angle: angle.to_radians(), half_width: 0.5 * width.to_radians(), radii })
+            }
+            _ => None,
         }
     }
 
@@ -198,6 +217,19 @@ impl CutterHeadSection {
                     key("suction.radius"),
                     radius,
                     format!("a mouth radius between shaft_radius = {} m and ring_inner_radius = {} m", self.shaft_radius, self.ring_inner_radius),
+                ));
+            }
+        }
+        if let Suction::Eccentric { angle, width, radii } = self.suction {
+            in_range(&key("suction.angle"), angle, -360.0, 360.0, "degrees")?;
+            if !(width > 0.0 && width <= 180.0) {
+                return Err(FieldError::new(key("suction.width"), width, "an opening angle in (0, 180] degrees"));
+            }
+            if !(radii[0] > self.shaft_radius && radii[1] > radii[0] && radii[1] < self.ring_inner_radius) {
+                return Err(FieldError::new(
+                    key("suction.radii"),
+                    format!("{radii:?}"),
+                    format!("[inner, outer] with shaft_radius = {} m < inner < outer < ring_inner_radius = {} m", self.shaft_radius, self.ring_inner_radius),
                 ));
             }
         }

@@ -30,6 +30,9 @@ pub struct HullFaces {
     pub hull: Vec<(usize, f64, f64)>,
     /// (face, sign) of the faces through which the hull's cells feed the suction (up).
     pub mouth: Vec<(usize, f64)>,
+    /// With an eccentric mouth: the back plate's boundary faces over the hull's cells (the
+    /// mouth is their condition, and their flux points out of the domain).
+    pub plate: Vec<usize>,
 }
 
 /// The fluxes of one step [m³/s].
@@ -70,7 +73,11 @@ impl HullFaces {
                 hull.push((f, sign, c.z));
             }
         }
-        HullFaces { hull, mouth }
+        let plate = match (head.mouth, mesh.patch("suction")) {
+            (Some(_), Ok(patch)) => patch.faces().filter(|&f| inside[mesh.face_owner[f]] && mesh.face_areas[f].z > 0.9 * mesh.face_areas[f].norm()).collect(),
+            _ => Vec::new(),
+        };
+        HullFaces { hull, mouth, plate }
     }
 
     /// The fluxes of the face flux field `flux` (absolute u·S per face).
@@ -86,7 +93,7 @@ impl HullFaces {
                 }
             }
         }
-        let suction = self.mouth.iter().map(|&(f, sign)| sign * flux[f]).sum();
+        let suction = self.mouth.iter().map(|&(f, sign)| sign * flux[f]).sum::<f64>() + self.plate.iter().map(|&f| flux[f]).sum::<f64>();
         HullFlux { outflow, net, suction, outflow_top_bin: top }
     }
 }
@@ -211,6 +218,19 @@ mod tests {
         assert_eq!(at(1.01 * head.radius_at(-0.1), -0.1), Some(ExitRoute::Spilled));
         assert_eq!(at(0.1, -head.height() - 0.01), Some(ExitRoute::Spilled));
         assert_eq!(at(0.3, 0.05), Some(ExitRoute::Spilled), "beside the pipe above the ring");
+    }
+
+    /// With an eccentric mouth the pipe is not meshed: a particle is sucked once its centre has
+    /// passed the back plate, which only the mouth lets it do.
+    #[test]
+    fn behind_an_eccentric_mouth_a_particle_is_sucked_at_the_plate() {
+        let mut section = crate::cutter_head::fluid_mesh::tests::eccentric(0.05, [0.07, 0.2]);
+        section.capture_height = 0.05;
+        let head = CutterHead::new(&section);
+        let at = |r: f64, z: f64| exit_route(&head, &Vec3::new(-r, 0.0, z));
+        assert_eq!(at(0.15, -0.001), None);
+        assert_eq!(at(0.15, 0.001), Some(ExitRoute::Sucked));
+        assert_eq!(at(0.3, 0.001), Some(ExitRoute::Spilled), "above the ring, outside the plate");
     }
 
     #[test]

@@ -17,8 +17,9 @@
 //!   axisymmetric faces has no moment about the axis).
 //! - **T_g**: the body force ρ Σ α_c V_c ((x_c − x₀) × g)·â (the tilted gravity of a ladder;
 //!   P includes the hydrostatic part, so T_g balances its share of the wall pressures).
-//! - the flux term: what leaves through the suction pipe (u_b = u_P, zero-gradient) or enters
-//!   through the floor (u_b ∥ â: none); walls carry nothing (φ_b = φ_mesh).
+//! - the flux term: what leaves through the suction pipe or an eccentric mouth (u_P, zero-gradient)
+//!   or enters through the floor (u_b ∥ â: none); walls carry nothing (φ_b = φ_mesh). The
+//!   back plate around an eccentric mouth is a wall at rest on the rest of each face.
 //! - **dL/dt** with the solver's time scheme, (c₀Lⁿ⁺¹ + c₁Lⁿ + c₂Lⁿ⁻¹)/Δt, each Lᵏ with the
 //!   cells where they were at tᵏ (the rotor's cells turned back by ω(tⁿ⁺¹ − tᵏ)).
 //! - **R**, the imbalance. Summing (x_c − x₀) × (cell momentum equation) over the cells, the
@@ -260,7 +261,16 @@ impl TorqueBudget {
                 let normal_distance = (mesh.face_centres[f] - mesh.cell_centres[c]).dot(&s.normalize());
                 let implicit = match condition {
                     Some(Condition::FixedPressure { .. }) => Vec3::zeros(),
+                    // a suction mouth's share of the face passes the water, the rest is the plate at rest
+                    Some(Condition::FixedVelocity { suction: Some(window), .. }) => {
+                        -u(c) * ((1.0 - window.share(&mesh.face_centres[f])) * gamma * s.norm() / normal_distance)
+                    }
                     _ => (boundary_u[b] - u(c)) * (gamma * s.norm() / normal_distance),
+                };
+                // what the water carries out: the cell's velocity through a suction mouth
+                let carried_velocity = match condition {
+                    Some(Condition::FixedVelocity { suction: Some(_), .. }) => u(c),
+                    _ => boundary_u[b],
                 };
                 let force = (implicit + explicit_stress(&grad[c], &s) * gamma) * rho - s * (rho * fluid.boundary_pressure[b]);
                 let torque = moment(&mesh.face_centres[f], &force);
@@ -268,7 +278,7 @@ impl TorqueBudget {
                     Some(Condition::Symmetry) => 0.0,
                     _ => fluid.flux[f] - mesh_flux(f),
                 };
-                let carried = rho * alpha * moment(&mesh.face_centres[f], &boundary_u[b]) * relative;
+                let carried = rho * alpha * moment(&mesh.face_centres[f], &carried_velocity) * relative;
                 match role {
                     Role::RotorWall => t.rotor += torque,
                     Role::StaticWall => t.static_walls += torque,

@@ -11,12 +11,16 @@
 //!   and the bottom close it.
 //! * `ring`, `hub`, `pipe`: the plates of [`CutterHead::plates`], each a closed polygonal annulus.
 //! * `shaft`: the side of the shaft cylinder from the tank floor to the top of the pipe.
+//! * `back_plate` (an eccentric mouth's head, [`stationary_walls`]): the underside of the back
+//!   plate at rest, an open annulus at z = 0 from the shaft to the ring with the mouth cut out;
+//!   a particle that passes the mouth has been sucked.
 //!
 //! Every closed part has outward normals (counter-clockwise seen from outside).
 
 use std::f64::consts::TAU;
 
 use super::geometry::{CutterHead, Part};
+use super::mouth::EccentricMouth;
 use super::settings::CutterHeadSection;
 use crate::walls::geometry::{cylinder, TriangleMesh};
 use crate::walls::state::Vec3;
@@ -36,7 +40,9 @@ pub fn head_walls(section: &CutterHeadSection, triangle_size: f64) -> Vec<(Strin
     let grid = BladeGrid::new(&head, triangle_size);
     let mut walls: Vec<(String, TriangleMesh)> = (0..head.blades).map(|k| (wall_name(Part::Blade(k)), blade(&head, k, &grid))).collect();
     for (part, r, z) in head.plates() {
-        walls.push((wall_name(part), revolved_rectangle(r, z, triangle_size)));
+        if part != Part::BackPlate {
+            walls.push((wall_name(part), revolved_rectangle(r, z, triangle_size)));
+        }
     }
     let floor = head.hub_bottom() - section.tank.below_hub;
     let length = head.pipe_top() - floor;
@@ -52,12 +58,23 @@ pub fn head_walls(section: &CutterHeadSection, triangle_size: f64) -> Vec<(Strin
     walls
 }
 
-/// The names [`head_walls`] gives its walls, in its order, without building them.
+/// The walls of the head at rest (the back plate of an eccentric mouth), with triangles of about
+/// `triangle_size`.
+pub fn stationary_walls(section: &CutterHeadSection, triangle_size: f64) -> Vec<(String, TriangleMesh)> {
+    let head = CutterHead::new(section);
+    head.mouth.map(|mouth| (wall_name(Part::BackPlate), back_plate(&head, &mouth, triangle_size))).into_iter().collect()
+}
+
+/// The names [`head_walls`] and then [`stationary_walls`] give their walls, in their order,
+/// without building them.
 pub fn head_wall_names(section: &CutterHeadSection) -> Vec<String> {
     let head = CutterHead::new(section);
     let mut names: Vec<String> = (0..head.blades).map(|k| wall_name(Part::Blade(k))).collect();
-    names.extend(head.plates().into_iter().map(|(part, _, _)| wall_name(part)));
+    names.extend(head.plates().into_iter().filter(|(part, _, _)| *part != Part::BackPlate).map(|(part, _, _)| wall_name(part)));
     names.push("shaft".to_string());
+    if head.mouth.is_some() {
+        names.push(wall_name(Part::BackPlate));
+    }
     names
 }
 
@@ -68,6 +85,7 @@ pub fn wall_name(part: Part) -> String {
         Part::Ring => "ring".to_string(),
         Part::Hub => "hub".to_string(),
         Part::Pipe => "pipe".to_string(),
+        Part::BackPlate => "back_plate".to_string(),
     }
 }
 
@@ -164,6 +182,43 @@ fn blade(head: &CutterHead, k: usize, grid: &BladeGrid) -> TriangleMesh {
         let (a, b) = (index(false, i0, j0), index(false, i1, j1));
         let (a_ahead, b_ahead) = (index(true, i0, j0), index(true, i1, j1));
         mesh.triangles.extend([[b, a, a_ahead], [b, a_ahead, b_ahead]]);
+    }
+    mesh
+}
+
+/// The back plate's underside: the annulus from the shaft to the ring's inner radius at z = 0
+/// on a polar grid whose lines include the mouth's edges, without the grid cells of the mouth,
+/// normals down into the head.
+fn back_plate(head: &CutterHead, mouth: &EccentricMouth, triangle_size: f64) -> TriangleMesh {
+    let split = |from: f64, to: f64, length: f64| {
+        let n = pieces(length, triangle_size);
+        (0..n).map(move |i| from + (to - from) * i as f64 / n as f64)
+    };
+    let [r1, r2] = mouth.radii;
+    let rim = head.opening_radius;
+    let mut radii: Vec<f64> = split(head.shaft_radius, r1, r1 - head.shaft_radius).chain(split(r1, r2, r2 - r1)).chain(split(r2, rim, rim - r2)).collect();
+    radii.push(rim);
+    let (start, width) = (mouth.angle - mouth.half_width, 2.0 * mouth.half_width);
+    let open = pieces(width * r2, triangle_size).max(2);
+    let closed = pieces((TAU - width) * rim, triangle_size).max(MIN_CIRCLE_SEGMENTS.saturating_sub(open));
+    let angles: Vec<f64> = (0..open)
+        .map(|j| start + width * j as f64 / open as f64)
+        .chain((0..closed).map(|j| start + width + (TAU - width) * j as f64 / closed as f64))
+        .collect();
+    let n = angles.len();
+    let mut mesh = TriangleMesh::default();
+    for &theta in &angles {
+        mesh.vertices.extend(radii.iter().map(|&r| cylindrical(r, theta, 0.0)));
+    }
+    let index = |i: usize, j: usize| ((j % n) * radii.len() + i) as u32;
+    for j in 0..n {
+        for i in 0..radii.len() - 1 {
+            let in_mouth = j < open && radii[i] >= r1 && radii[i + 1] <= r2;
+            if !in_mouth {
+                let (a, b, c, d) = (index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1));
+                mesh.triangles.extend([[a, c, b], [a, d, c]]);
+            }
+        }
     }
     mesh
 }
@@ -392,5 +447,42 @@ mod tests {
         let case = crate::case::Case::from_toml(&wrong, std::path::Path::new("cutter_head.toml")).unwrap();
         let error = crate::walls::build(&case, std::path::Path::new(".")).unwrap_err().to_string();
         assert!(error.contains("cutter_head.material") && error.contains("brass"), "{error}");
+    }
+
+    /// An eccentric mouth's head: the back plate is a wall at rest after the turning parts
+    /// (the ring reaches in to the plate, no pipe turns with the head), it covers the inner
+    /// ring area at z = 0 except the mouth, and a sphere under the mouth can rise through it
+    /// while one under the plate touches it.
+    #[test]
+    fn the_back_plate_stands_still_with_the_mouth_cut_out() {
+        let text = case_text()
+            .replace("suction = { type = \"mouth\", radius = 0.12 }", "suction = { type = \"eccentric\", angle = 180.0, width = 103.0, radii = [0.07, 0.2] }");
+        let case = crate::case::Case::from_toml(&text, std::path::Path::new("cutter_head.toml")).unwrap();
+        let state = crate::walls::build(&case, std::path::Path::new(".")).unwrap();
+        let names: Vec<&str> = state.walls.iter().map(|w| w.name.as_str()).collect();
+        assert_eq!(names, ["blade_1", "blade_2", "blade_3", "blade_4", "blade_5", "blade_6", "hub", "ring", "shaft", "back_plate"]);
+        assert_eq!(names, head_wall_names(case.cutter_head.as_ref().unwrap()));
+        let plate = state.walls.last().unwrap();
+        assert!(state.walls[..9].iter().all(|w| w.motion == WallMotion::Rotor) && plate.motion == WallMotion::Static);
+        let section = case.cutter_head.unwrap();
+        let head = CutterHead::new(&section);
+        let mouth = head.mouth.unwrap();
+        let mesh = TriangleMesh { vertices: plate.vertices.clone(), triangles: plate.triangles.clone() };
+        WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap();
+        // flat at z = 0, facing down into the head; its area is the polygonal annulus less the
+        // mouth's polygonal sector (the grid has the mouth's edges as lines)
+        assert!(mesh.vertices.iter().all(|v| v.z == 0.0));
+        let areas: Vec<f64> = mesh.triangles.iter().map(|t| corners(&mesh, t)).map(|[a, b, c]| 0.5 * (b - a).cross(&(c - a)).z).collect();
+        assert!(areas.iter().all(|&a| a < 0.0), "a triangle faces up");
+        let area = -areas.iter().sum::<f64>();
+        let annulus = PI * (head.opening_radius.powi(2) - head.shaft_radius.powi(2));
+        assert!(area < annulus - 0.95 * mouth.area() && area > annulus - mouth.area() - 0.02 * annulus, "{area} vs {annulus} − {}", mouth.area());
+        let geometry = WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap();
+        // a 2 cm sphere half a radius under the plate: under the mouth's middle (r 0.135 m,
+        // θ 180°, 6.5 cm from its edges) nothing touches; under the plate (θ 0°) the plate does
+        let a = 0.01;
+        assert!(geometry.sphere_contacts(Vec3::new(-0.135, 0.0, -0.5 * a), a).is_empty(), "the mouth is closed");
+        let contacts = geometry.sphere_contacts(Vec3::new(0.135, 0.0, -0.5 * a), a);
+        assert!(contacts.len() == 1 && (contacts[0].distance - 0.5 * a).abs() < 1e-15, "{contacts:?}");
     }
 }

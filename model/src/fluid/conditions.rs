@@ -2,6 +2,7 @@
 //! one definition both fluid solvers use.
 
 use crate::case::Case;
+use crate::cutter_head::mouth::SuctionWindow;
 use crate::mesh::motion::rigid_rotation_velocity;
 use crate::mesh::{Mesh, PatchKind, Vec3};
 use crate::solver::SolverError;
@@ -12,8 +13,17 @@ use super::settings::{BoundaryCondition, ParabolicProfile};
 #[derive(Clone, Debug)]
 pub enum Condition {
     /// Fixed velocity u_b(x) = `velocity` + ω â × (x − `origin`) (ω = `angular_velocity` about the
-    /// unit `axis`), plus the rotor's rigid motion if `rotating`; prescribed flux u_b·S.
-    FixedVelocity { velocity: Vec3, angular_velocity: f64, axis: Vec3, origin: Vec3, rotating: bool, profile: Option<ParabolicProfile> },
+    /// unit `axis`), plus the rotor's rigid motion if `rotating`, plus the outflow through a
+    /// stationary `suction` mouth where the face lies over it; prescribed flux u_b·S.
+    FixedVelocity {
+        velocity: Vec3,
+        angular_velocity: f64,
+        axis: Vec3,
+        origin: Vec3,
+        rotating: bool,
+        profile: Option<ParabolicProfile>,
+        suction: Option<SuctionWindow>,
+    },
     /// Fixed kinematic pressure, zero-gradient velocity.
     FixedPressure { pressure: f64 },
     /// No normal flux relative to the mesh, zero-gradient tangential velocity.
@@ -53,13 +63,14 @@ impl Conditions {
                 return Err(SolverError::Unsupported(format!("mesh patch `{}` has no [boundary.{}] condition in the case", patch.name, patch.name)));
             };
             let condition = match bc {
-                BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin } => Condition::FixedVelocity {
+                BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin, suction } => Condition::FixedVelocity {
                     velocity: Vec3::from(*velocity),
                     angular_velocity: *angular_velocity,
                     axis: Vec3::from(*axis).normalize(),
                     origin: Vec3::from(*origin),
                     rotating: *rotating,
                     profile: None,
+                    suction: suction.clone(),
                 },
                 BoundaryCondition::VelocityInlet { velocity, profile } => Condition::FixedVelocity {
                     velocity: Vec3::from(*velocity),
@@ -68,6 +79,7 @@ impl Conditions {
                     origin: Vec3::zeros(),
                     rotating: false,
                     profile: profile.clone(),
+                    suction: None,
                 },
                 BoundaryCondition::PressureOutlet { pressure } => {
                     has_fixed_pressure = true;
@@ -80,6 +92,20 @@ impl Conditions {
             wall.push(matches!(bc, BoundaryCondition::Wall { .. }));
         }
         Ok(Conditions { conditions, patch_condition, has_fixed_pressure, wall })
+    }
+
+    /// The condition that carries a suction mouth, if any ([`SuctionWindow`]).
+    pub fn suction_condition(&self) -> Option<usize> {
+        self.conditions.iter().position(|c| matches!(c, Condition::FixedVelocity { suction: Some(_), .. }))
+    }
+
+    /// Sets the speed of the suction mouth's outflow ([`crate::cutter_head::mouth::balancing_speed`]).
+    pub fn set_suction_speed(&mut self, speed: f64) {
+        for c in &mut self.conditions {
+            if let Condition::FixedVelocity { suction: Some(window), .. } = c {
+                window.set_speed(speed);
+            }
+        }
     }
 
     /// Per condition: the mesh patch name of a wall condition (the y⁺ diagnostics of the
@@ -101,9 +127,12 @@ impl Conditions {
     /// rotor).
     pub fn fixed_velocity(&self, condition: usize, centre: &Vec3, rotor_velocity: Option<impl Fn(&Vec3) -> Vec3>) -> Option<Vec3> {
         match &self.conditions[condition] {
-            Condition::FixedVelocity { velocity, angular_velocity, axis, origin, rotating, profile } => {
+            Condition::FixedVelocity { velocity, angular_velocity, axis, origin, rotating, profile, suction } => {
                 let shape = profile.as_ref().map_or(1.0, |p| p.factor([centre.x, centre.y, centre.z]));
                 let mut u = shape * velocity + rigid_rotation_velocity(*angular_velocity, axis, origin, centre);
+                if let Some(window) = suction {
+                    u += window.velocity(centre);
+                }
                 if *rotating {
                     if let Some(rotor_velocity) = rotor_velocity {
                         u += rotor_velocity(centre);
@@ -124,4 +153,12 @@ impl Conditions {
             Condition::FixedPressure { .. } => None,
         }
     }
+}
+
+/// Σ_c V_c ∂α_c/∂t with the step's time coefficients [m³/s]: what the particles give up to the
+/// water per second (the pressure equation's cell source, summed; the interface mask moves it
+/// between cells and keeps its sum).
+pub fn fluid_volume_rate(alpha: [&[f64]; 3], volumes: &[f64], coefficients: [f64; 3], dt: f64) -> f64 {
+    let [c0, c1, c2] = coefficients;
+    (0..volumes.len()).map(|c| (c0 * alpha[0][c] + c1 * alpha[1][c] + c2 * alpha[2][c]) * volumes[c] / dt).sum()
 }

@@ -149,6 +149,11 @@ pub enum BoundaryCondition {
         axis: [f64; 3],
         #[serde(default)]
         origin: [f64; 3],
+        /// A stationary suction mouth in this wall: where it lies over the mouth the wall lets
+        /// the water out (the back plate of a cutter head, derived from `[cutter_head] suction`;
+        /// a case file cannot set it).
+        #[serde(skip)]
+        suction: Option<crate::cutter_head::mouth::SuctionWindow>,
     },
     /// Fixed velocity (the flux u·S may point in or out); pressure by the wall condition of
     /// `[numerics] pressure_wall` (spec §8.8). With a `profile`, `velocity` is the mean over it.
@@ -211,7 +216,7 @@ impl BoundaryCondition {
     /// `key` is the section path, e.g. `boundary.inner`.
     pub fn validate(&self, key: &str) -> Result<(), FieldError> {
         match self {
-            BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin } => {
+            BoundaryCondition::Wall { velocity, rotating, angular_velocity, axis, origin, .. } => {
                 finite_vector(&format!("{key}.velocity"), *velocity)?;
                 finite_vector(&format!("{key}.axis"), *axis)?;
                 finite_vector(&format!("{key}.origin"), *origin)?;

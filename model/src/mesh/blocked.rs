@@ -5,7 +5,8 @@
 //! Patches, in this order: `shaft` (the rotor's inner radius), `tank` (the stator's outer
 //! radius), `floor` (z_min), `top` (z_max, except the suction), `interface_rotor`,
 //! `interface_stator`, `head` (faces toward blocked slots), `suction` (rotor z_max faces whose
-//! centre lies within `suction_radius` of the axis). Zones `rotor` (0, turning about z) and
+//! centre lies within `suction_radius` of the axis, and faces toward `stationary` blocked slots:
+//! a solid at rest, such as the back plate of an eccentric mouth). Zones `rotor` (0, turning about z) and
 //! `stator` (1). Blocked slots must not touch the sliding interface.
 
 use std::collections::VecDeque;
@@ -34,6 +35,9 @@ pub struct BlockedRotorStator {
     /// Both slots of a face carry its bit.
     pub baffles: Vec<u8>,
     pub suction_radius: f64,
+    /// Per rotor slot: a blocked slot that belongs to a solid at rest; its faces toward the fluid
+    /// are patch `suction`, not `head`. Empty: none.
+    pub stationary: Vec<bool>,
 }
 
 impl BlockedRotorStator {
@@ -166,6 +170,9 @@ impl Mesh {
         if !spec.baffles.is_empty() && spec.baffles.len() != n_slots {
             return Err(MeshError::input("baffles", spec.baffles.len(), &format!("none, or one bit set per rotor slot ({n_slots})")));
         }
+        if !spec.stationary.is_empty() && spec.stationary.len() != n_slots {
+            return Err(MeshError::input("stationary", spec.stationary.len(), &format!("none, or one flag per rotor slot ({n_slots})")));
+        }
         if spec.blocked.iter().all(|&b| b) {
             return Err(MeshError::input("blocked", "(every rotor slot)", "some open rotor cells"));
         }
@@ -244,6 +251,7 @@ impl Mesh {
                 }
                 let slot = slot_of_cell[cell];
                 match spec.neighbour(slot, local) {
+                    Some(t) if spec.blocked[t] && spec.stationary.get(t) == Some(&true) => Ok(7),
                     Some(t) if spec.blocked[t] => Ok(6),
                     Some(_) => Err(MeshError::Topology(format!("face {local} of rotor cell {cell} is unmatched next to an open cell"))),
                     None => Ok(match local {

@@ -73,6 +73,9 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
             for (name, mesh) in crate::cutter_head::walls::head_walls(head, head.mesh.cell_size) {
                 walls.push(wall(name, material, mesh, WallMotion::Rotor)?);
             }
+            for (name, mesh) in crate::cutter_head::walls::stationary_walls(head, head.mesh.cell_size) {
+                walls.push(wall(name, material, mesh, WallMotion::Static)?);
+            }
         }
     }
     Ok(WallState { walls })

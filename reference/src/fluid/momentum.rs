@@ -195,6 +195,12 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         let gamma = inputs.viscosity.boundary(face.index) * alpha_p;
         let d = gamma * face.area.norm() / face.normal_distance;
         match &inputs.conditions.conditions[face.patch] {
+            Condition::FixedVelocity { suction: Some(window), .. } => {
+                // the share s of the face over a suction mouth lets the water out with the
+                // cell's velocity (zero gradient: its swirl leaves with it, the way the water
+                // enters the pipe); the rest is the back plate, a wall at rest
+                m.add_diagonal(p, alpha_p * f + (1.0 - window.share(&face.centre)) * d);
+            }
             Condition::FixedVelocity { .. } => {
                 source[p] -= boundary_u[b] * (alpha_p * f);
                 m.add_diagonal(p, d);

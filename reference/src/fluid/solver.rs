@@ -3,6 +3,8 @@
 use spillage_model::case::Case;
 use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::CellLoad;
+use spillage_model::cutter_head::mouth::balancing_speed;
+use spillage_model::fluid::conditions::fluid_volume_rate;
 use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
@@ -111,6 +113,30 @@ impl ReferenceFluid {
         Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), links)
     }
 
+    /// Sets the suction mouth's speed of the step (`suction` is its condition): the speed at
+    /// which the water leaves through it what continuity leaves for it
+    /// (spillage_model::cutter_head::mouth::balancing_speed): the prescribed fluxes at unit
+    /// speed, each weighted by α of its cell, and the cells' Σ V ∂α/∂t.
+    fn balance_suction(&mut self, suction: usize, geo: &Geometry, fluid: &FluidState, ctx: &StepContext) -> Result<(), SolverError> {
+        self.conditions.set_suction_speed(1.0);
+        let (mut unit, mut other) = (0.0, 0.0);
+        for face in &geo.boundary {
+            if let Some(flux) = boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref()) {
+                let weighted = fluid.alpha[face.cell] * flux;
+                if face.patch == suction {
+                    unit += weighted;
+                } else {
+                    other += weighted;
+                }
+            }
+        }
+        let alpha = [fluid.alpha.as_slice(), fluid.alpha_old.as_slice(), fluid.alpha_old_old.as_slice()];
+        let rate = fluid_volume_rate(alpha, &self.mesh.cell_volumes, ctx.time_coefficients, ctx.dt);
+        let speed = balancing_speed(unit, other, rate).map_err(SolverError::Unsupported)?;
+        self.conditions.set_suction_speed(speed);
+        Ok(())
+    }
+
     /// One PIMPLE step from tⁿ to tⁿ⁺¹ (module doc, steps 2–5).
     fn advance_fluid(
         &mut self,
@@ -128,6 +154,9 @@ impl ReferenceFluid {
         let volumes = self.mesh.cell_volumes.clone();
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
+        if let Some(suction) = self.conditions.suction_condition() {
+            self.balance_suction(suction, &geo, fluid, ctx)?;
+        }
         let boundary_velocity: Vec<Option<Vec3>> =
             geo.boundary.iter().map(|face| boundary::fixed_velocity(&self.conditions, face, self.rotor.as_ref())).collect();
         let prescribed: Vec<Option<f64>> = geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
