@@ -58,10 +58,11 @@ pub fn still_tank(condition: &BoundaryCondition) -> bool {
 }
 
 /// Whether a body-frame point is in the head: inside the contour hull, or in the suction pipe
-/// (inside its outer wall above the ring).
+/// (inside its outer wall above the ring; an eccentric mouth's housing holds no water).
 pub fn in_head(head: &CutterHead, x: [f64; 3]) -> bool {
     let (r, z) = (x[0].hypot(x[1]), x[2]);
-    head.inside_hull(r, z) || (z > 0.0 && r < head.opening_radius + head.pipe_wall)
+    let pipe = if head.mouth.is_some() { 0.0 } else { head.pipe_wall };
+    head.inside_hull(r, z) || (z > 0.0 && r < head.opening_radius + pipe)
 }
 
 /// The initial velocity at `x`: `start` (the case's `[fluid] initial`) inside the head, the

@@ -41,7 +41,8 @@ impl HeadFluxes {
     /// Appends the fluxes of `fluid` (at the end of a step, `mesh` and `pose` at its time).
     pub fn report(&self, head: &CutterHead, mesh: &Mesh, fluid: &FluidState, pose: Option<&RotorPose>, report: &mut StepReport) {
         let q = self.faces.flux(&fluid.flux);
-        let boundary_u = boundary_velocities(mesh, &self.conditions, &fluid.velocity, pose);
+        let conditions = self.conditions.with_solved_suction(mesh, &fluid.flux);
+        let boundary_u = boundary_velocities(mesh, &conditions, &fluid.velocity, pose);
         let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, _| Some(boundary_u[f - mesh.n_internal_faces]));
         let s = self.surface.flux(mesh, &fluid.velocity, &grad);
         report.values.extend([

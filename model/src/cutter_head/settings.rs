@@ -257,7 +257,8 @@ impl CutterHeadSection {
         positive(&key("tank.below_hub"), self.tank.below_hub, "m")?;
         positive(&key("mesh.cell_size"), self.mesh.cell_size, "m")?;
         positive(&key("mesh.outer_cell_size"), self.mesh.outer_cell_size, "m")?;
-        let widest = self.contour.iter().map(|p| p[1]).fold(self.opening_radius() + self.pipe_wall, f64::max);
+        let pipe = if self.eccentric_mouth().is_some() { 0.0 } else { self.pipe_wall };
+        let widest = self.contour.iter().map(|p| p[1]).fold(self.opening_radius() + pipe, f64::max);
         if !(self.mesh.interface_radius >= widest + self.mesh.cell_size) {
             return Err(FieldError::new(
                 key("mesh.interface_radius"),

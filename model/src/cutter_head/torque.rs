@@ -141,16 +141,18 @@ pub struct TorqueTerms {
 /// The hull's control volume [N m].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ControlTerms {
-    /// The walls bounding the hull's cells (the rotor's faces inside the hull) on its water.
+    /// The walls bounding the hull's cells (the rotor's faces inside the hull; with an eccentric
+    /// mouth also the back plate at rest around it) on its water.
     pub walls: f64,
     pub gravity: f64,
     /// Convective angular-momentum flux out through the hull faces.
     pub hull_flux: f64,
-    /// The same out through the mouth (into the pipe).
+    /// The same out through the mouth (into the pipe, or through an eccentric mouth's plate faces).
     pub mouth_flux: f64,
     /// Torque of the outside water's viscous traction across hull and mouth.
     pub surface_stress: f64,
-    /// Carried out through boundary faces of the hull's cells (walls: none).
+    /// Carried out through the other boundary faces of the hull's cells (walls at rest or turning
+    /// with the mesh: none).
     pub boundary_outflow: f64,
     pub rate: f64,
     /// rate − (walls + gravity + surface_stress − hull_flux − mouth_flux − boundary_outflow).
@@ -241,7 +243,8 @@ impl TorqueBudget {
         let mesh_flux = |f: usize| if self.rotor_cells[mesh.face_owner[f]] { pose.velocity_at(&mesh.face_centres[f]).dot(&mesh.face_areas[f]) } else { 0.0 };
         // boundary values as the assembly takes them; interface faces take the cell's own value
         // (module doc), which `boundary_velocities` gives patches without a condition
-        let boundary_u = boundary_velocities(mesh, &self.conditions, &fluid.velocity, Some(&pose));
+        let conditions = self.conditions.with_solved_suction(mesh, &fluid.flux);
+        let boundary_u = boundary_velocities(mesh, &conditions, &fluid.velocity, Some(&pose));
         let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, _| Some(boundary_u[f - n_internal]));
 
         let mut t = TorqueTerms::default();
@@ -288,7 +291,12 @@ impl TorqueBudget {
                 if let (Some(cv), Some(control)) = (cv.as_mut(), &self.control) {
                     if control.inside[c] {
                         cv.walls += torque;
-                        cv.boundary_outflow += carried;
+                        // an eccentric mouth's plate faces are the hull's mouth
+                        if matches!(condition, Some(Condition::FixedVelocity { suction: Some(_), .. })) {
+                            cv.mouth_flux += carried;
+                        } else {
+                            cv.boundary_outflow += carried;
+                        }
                     }
                 }
             }

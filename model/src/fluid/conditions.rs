@@ -108,6 +108,27 @@ impl Conditions {
         }
     }
 
+    /// These conditions with the suction mouth's speed of the step that produced the face fluxes
+    /// `flux` on `mesh` (at that step's rotor angle), recovered from the mouth's faces as
+    /// U = Σ φ / Σ share·A: the speed the solver balanced, for diagnostics that rebuild its
+    /// boundary values. Borrowed unchanged without a mouth.
+    pub fn with_solved_suction(&self, mesh: &Mesh, flux: &[f64]) -> std::borrow::Cow<'_, Conditions> {
+        let Some(suction) = self.suction_condition() else { return std::borrow::Cow::Borrowed(self) };
+        let mut unit = self.clone();
+        unit.set_suction_speed(1.0);
+        let (mut carried, mut per_speed) = (0.0, 0.0);
+        for (patch, condition) in mesh.patches.iter().zip(&self.patch_condition) {
+            if *condition == Some(suction) {
+                for f in patch.faces() {
+                    carried += flux[f];
+                    per_speed += unit.fixed_velocity(suction, &mesh.face_centres[f], None::<fn(&Vec3) -> Vec3>).map_or(0.0, |u| u.dot(&mesh.face_areas[f]));
+                }
+            }
+        }
+        unit.set_suction_speed(carried / per_speed);
+        std::borrow::Cow::Owned(unit)
+    }
+
     /// Per condition: the mesh patch name of a wall condition (the y⁺ diagnostics of the
     /// turbulence model), `None` for other conditions.
     pub fn wall_patch_names(&self, mesh: &Mesh) -> Vec<Option<String>> {

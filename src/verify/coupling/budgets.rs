@@ -102,7 +102,8 @@ fn wall_force(case: &Case, mesh: &Mesh, alpha: &[f64], u: &[[f64; 3]], boundary_
         }
         // closed and at rest: no flux through the boundary, u_b = 0 in the wall terms
         match case.boundary.get(&patch.name) {
-            Some(BoundaryCondition::Wall { velocity, rotating: false, angular_velocity, .. }) if *velocity == [0.0; 3] && *angular_velocity == 0.0 => {}
+            Some(BoundaryCondition::Wall { velocity, rotating: false, angular_velocity, suction: None, .. })
+                if *velocity == [0.0; 3] && *angular_velocity == 0.0 => {}
             _ => bail!("the momentum budget needs a closed box: patch `{}` is not a wall at rest", patch.name),
         }
         for f in patch.faces() {
