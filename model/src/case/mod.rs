@@ -160,12 +160,12 @@ impl Case {
             crate::mesh::MeshError::InvalidInput { input, value, allowed } if input.starts_with("cutter_head.") => FieldError::new(input, value, allowed),
             e => FieldError::new("cutter_head.mesh", format!("({e})"), "a resolution the mesh generator accepts"),
         };
-        let area = crate::cutter_head::fluid_mesh::floor_area(head).map_err(refused)?;
+        let spec = crate::cutter_head::fluid_mesh::blocked_rotor_stator(head).map_err(refused)?;
+        let area = crate::cutter_head::fluid_mesh::floor_area(head, &spec).map_err(refused)?;
         let velocity = head.suction_discharge / area;
         let tank = current::tank_condition(head);
         self.boundary.insert("floor".into(), current::floor_condition(head, velocity));
-        let window = crate::cutter_head::fluid_mesh::suction_window(head).map_err(refused)?;
-        let suction = match window {
+        let suction = match crate::cutter_head::fluid_mesh::suction_window(head, &spec) {
             // the back plate at rest with its mouth; the pressure level is then set by a reference
             // cell, as every other boundary fixes the flux
             Some(window) => BoundaryCondition::Wall {

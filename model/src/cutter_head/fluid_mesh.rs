@@ -138,18 +138,16 @@ fn check_mouth_over_open_cells(spec: &BlockedRotorStator, radii: [f64; 2]) -> Re
     Err(MeshError::input("cutter_head.suction.radii", format!("{radii:?}"), &allowed))
 }
 
-/// The boundary condition of an eccentric mouth on the back plate's faces of the mesh of
+/// The boundary condition of an eccentric mouth on the back plate's faces of the mesh `spec` of
 /// `section` (`None` for the other suctions).
-pub fn suction_window(section: &CutterHeadSection) -> Result<Option<SuctionWindow>, MeshError> {
-    let Some(mouth) = section.eccentric_mouth() else { return Ok(None) };
-    let spec = blocked_rotor_stator(section)?;
-    Ok(Some(SuctionWindow::new(mouth, 0.0, spec.rotor_r, spec.n_theta_rotor, section.suction_discharge)))
+pub fn suction_window(section: &CutterHeadSection, spec: &BlockedRotorStator) -> Option<SuctionWindow> {
+    let mouth = section.eccentric_mouth()?;
+    Some(SuctionWindow::new(mouth, 0.0, spec.rotor_r.clone(), spec.n_theta_rotor, section.suction_discharge))
 }
 
 /// Area of the `floor` patch: every bottom-layer cell's face, planar annular sectors of area
 /// ½ sin(2π/n_θ)(r_o² − r_i²) in both zones.
-pub fn floor_area(section: &CutterHeadSection) -> Result<f64, MeshError> {
-    let spec = blocked_rotor_stator(section)?;
+pub fn floor_area(section: &CutterHeadSection, spec: &BlockedRotorStator) -> Result<f64, MeshError> {
     let n_r = spec.rotor_r.len() - 1;
     if spec.blocked[..n_r * spec.n_theta_rotor].iter().any(|&b| b) {
         return Err(MeshError::input("cutter_head.tank.below_hub", section.tank.below_hub, "water under the hub plate (a solid touches the floor)"));
@@ -207,7 +205,7 @@ pub(crate) mod tests {
         assert!((open + blocked_volume - whole).abs() < 1e-12 * whole, "{open} + {blocked_volume} vs {whole}");
         // the floor's exact area is what the case's inflow velocity was computed from
         let floor: f64 = mesh.patch("floor").unwrap().faces().map(|f| -mesh.face_areas[f].z).sum();
-        assert!((floor - floor_area(&section).unwrap()).abs() < 1e-13, "{floor}");
+        assert!((floor - floor_area(&section, &spec).unwrap()).abs() < 1e-13, "{floor}");
         assert!(mesh.patch("suction").unwrap().len > 0);
     }
 
@@ -376,7 +374,7 @@ pub(crate) mod tests {
             .faces()
             .all(|f| mesh.face_centres[f].z.abs() > 1e-12 || mesh.face_centres[f].x.hypot(mesh.face_centres[f].y) > rim));
         // the window carries Q_m through these faces at the mesh's rest angle
-        let window = suction_window(&section).unwrap().unwrap();
+        let window = suction_window(&section, &spec).unwrap();
         let q: f64 = suction.faces().map(|f| window.velocity(&mesh.face_centres[f]).dot(&mesh.face_areas[f])).sum();
         assert!((q - section.suction_discharge).abs() < 1e-14, "{q}");
     }
