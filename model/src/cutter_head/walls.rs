@@ -468,9 +468,11 @@ mod tests {
         let head = CutterHead::new(&section);
         let mouth = head.mouth.unwrap();
         let mesh = TriangleMesh { vertices: plate.vertices.clone(), triangles: plate.triangles.clone() };
-        WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap();
         // flat at z = 0, facing down into the head; its area is the polygonal annulus less the
-        // mouth's polygonal sector (the grid has the mouth's edges as lines)
+        // mouth's polygonal sector (the grid has the mouth's edges as lines). Chords fall short
+        // of arcs by (Δθ)²/6 of the area: 0.8 % for the mouth's 8 segments of 0.225 rad (so more
+        // than 0.95 of its area is cut out) and 0.5 % for the plate's 26 of 0.17 rad elsewhere
+        // (within 2 % of the circular annulus)
         assert!(mesh.vertices.iter().all(|v| v.z == 0.0));
         let areas: Vec<f64> = mesh.triangles.iter().map(|t| corners(&mesh, t)).map(|[a, b, c]| 0.5 * (b - a).cross(&(c - a)).z).collect();
         assert!(areas.iter().all(|&a| a < 0.0), "a triangle faces up");
