@@ -85,14 +85,39 @@ impl ParticleArrays {
     /// Particle `k` as the shared model functions take it (for the rare events: first
     /// touches, faults), without its contact force, torque and count (being evaluated).
     pub fn particle(&self, k: usize) -> Particle {
+        self.properties().particle(k, self.position[k], self.velocity[k], self.spin[k])
+    }
+
+    /// What the particles are, apart from how they move: read while a pass moves them.
+    pub fn properties(&self) -> ParticleProperties<'_> {
+        ParticleProperties { id: &self.id, material: &self.material, diameter: &self.diameter, density: &self.density, radius: &self.radius, mass: &self.mass }
+    }
+}
+
+/// The arrays of [`ParticleArrays`] a sub-step does not change, borrowed apart from the moving
+/// ones (a pass that evaluates a particle's wall contacts just before it moves it reads these
+/// for the whole bed while each thread writes the positions of its own block).
+#[derive(Clone, Copy)]
+pub struct ParticleProperties<'a> {
+    pub id: &'a [u64],
+    pub material: &'a [usize],
+    pub diameter: &'a [f64],
+    pub density: &'a [f64],
+    pub radius: &'a [f64],
+    pub mass: &'a [f64],
+}
+
+impl ParticleProperties<'_> {
+    /// Particle `k` at this motion, as [`ParticleArrays::particle`] gives it.
+    pub fn particle(&self, k: usize, position: Vec3, velocity: Vec3, spin: Vec3) -> Particle {
         Particle {
             id: self.id[k],
             material: self.material[k],
             diameter: self.diameter[k],
             density: self.density[k],
-            position: self.position[k],
-            velocity: self.velocity[k],
-            spin: self.spin[k],
+            position,
+            velocity,
+            spin,
             contact_force: Vec3::zeros(),
             contact_torque: Vec3::zeros(),
             contacts: 0,

@@ -2,19 +2,23 @@
 //! parallel: the half-kick with the contact force and torque, half the non-contact update
 //! ([`NonContactForces::update`]) and, in the first half, the drift. Between two sub-steps the
 //! second half of one and the first half of the next are one pass ([`Pass::Between`]).
-
-use rayon::prelude::*;
+//!
+//! The pass also finishes each particle's contact force just before it moves it (its wall
+//! contacts, [`BeforeMove`]) and clears the sums for the next sub-step's pairs after: one
+//! parallel region and one sweep over the particles' memory where there were three.
 
 use spillage_model::closure::drag::FluidAtParticle;
 use spillage_model::particles::non_contact::{LoadShare, NonContactForces};
 use spillage_model::particles::settings::Motion;
 use spillage_model::particles::state::Vec3;
 
-use super::arrays::ParticleArrays;
+use super::arrays::{ParticleArrays, ParticleProperties};
+use super::team::{Shared, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
-/// order, then the blocks in order, so the sums do not depend on the number of threads.
-const BLOCK: usize = 1024;
+/// order, then the blocks in order, so the sums do not depend on the number of threads. Each
+/// block's [`BeforeMove`] holds the slices of its particles' state cut at this length.
+pub const BLOCK: usize = 1024;
 
 /// Per-particle accumulators of a step, in internal order, and the pass's block sums.
 #[derive(Default)]
@@ -66,9 +70,48 @@ pub struct PassSums {
     pub max_displacement_sq: f64,
 }
 
-/// One pass of length `dt` sub-steps over every particle; `fluid` is indexed by the state's
-/// order (empty: no particle sees a fluid), `origins` are the neighbour list's build positions.
-pub fn advance_particles(
+/// What a pass does to a particle just before it moves it: adds the rest of its contact force,
+/// torque and count (the walls'; the pairs' are added before the pass). `j` is its place in
+/// the pass's block, `k` its internal index; position, velocity and spin are the ones its
+/// contacts are evaluated at. Each block of the pass has its own (its block's state).
+pub trait BeforeMove: Send {
+    #[allow(clippy::too_many_arguments)]
+    fn before_move(
+        &mut self,
+        j: usize,
+        k: usize,
+        properties: &ParticleProperties,
+        position: &Vec3,
+        velocity: &Vec3,
+        spin: &Vec3,
+        force: &mut Vec3,
+        torque: &mut Vec3,
+        count: &mut u32,
+    );
+}
+
+/// Nothing to add: the first pass of a step, or no walls.
+#[derive(Clone, Copy)]
+pub struct NothingToAdd;
+
+impl BeforeMove for NothingToAdd {
+    #[inline]
+    fn before_move(&mut self, _: usize, _: usize, _: &ParticleProperties, _: &Vec3, _: &Vec3, _: &Vec3, _: &mut Vec3, _: &mut Vec3, _: &mut u32) {}
+}
+
+/// The number of blocks a pass cuts `n` particles into (each takes one [`BeforeMove`]).
+pub fn blocks_of(n: usize) -> usize {
+    n.div_ceil(BLOCK)
+}
+
+/// One pass of length `dt` sub-steps over every particle, by the `team`; `fluid` is indexed
+/// by the state's order (empty: no particle sees a fluid), `origins` are the neighbour list's
+/// build positions. `before(b)` makes what block `b` (of [`BLOCK`] particles) does to a particle
+/// before moving it; it is called once per block. Unless the pass is the step's last
+/// ([`Pass::Second`], whose contact forces the state keeps), it leaves the contact forces,
+/// torques and counts at zero, ready for the next sub-step's sums.
+#[allow(clippy::too_many_arguments)]
+pub fn advance_particles<B: BeforeMove>(
     pass: Pass,
     arrays: &mut ParticleArrays,
     sums: &mut StepSums,
@@ -76,24 +119,38 @@ pub fn advance_particles(
     fluid: &[Option<FluidAtParticle>],
     dt: f64,
     origins: &[Vec3],
+    team: &Team,
+    before: impl Fn(usize) -> B + Sync,
 ) -> PassSums {
-    let ParticleArrays { state_index, diameter, density, mass, inertia, volume, position, velocity, spin, force, torque, .. } = arrays;
+    let ParticleArrays { state_index, id, material, diameter, density, radius, mass, inertia, volume, position, velocity, spin, force, torque, contacts } =
+        arrays;
+    let properties = ParticleProperties { id, material, diameter: &diameter[..], density: &density[..], radius, mass };
+    let n = mass.len();
     let h = 0.5 * dt;
-    let kernel = PassKernel { pass, h, dt, motion: forces.motion, mass, inertia, force, torque, origins: (origins.len() == mass.len()).then_some(origins) };
-    sums.blocks.resize(mass.len().div_ceil(BLOCK), BlockSums::default());
-    let blocks = (
-        velocity.par_chunks_mut(BLOCK),
-        spin.par_chunks_mut(BLOCK),
-        position.par_chunks_mut(BLOCK),
-        sums.load.par_chunks_mut(BLOCK),
-        sums.blocks.par_iter_mut(),
-    );
+    let kernel = PassKernel { pass, h, dt, motion: forces.motion, properties, inertia, origins: (origins.len() == n).then_some(origins) };
+    sums.blocks.resize(blocks_of(n), BlockSums::default());
+    let moving = (Shared::new(velocity), Shared::new(spin), Shared::new(position));
+    let contact = (Shared::new(force), Shared::new(torque), Shared::new(contacts));
+    let (loads, block_sums) = (Shared::new(&mut sums.load), Shared::new(&mut sums.blocks));
+    // block b's share of the particles' state: the blocks' ranges are disjoint, and each block
+    // is one piece of the part, run once
+    let block = |b: usize| {
+        let range = b * BLOCK..n.min((b + 1) * BLOCK);
+        // SAFETY: block b's own range of each array (see above)
+        unsafe {
+            let moving = (moving.0.range(range.clone()), moving.1.range(range.clone()), moving.2.range(range.clone()));
+            let contact = (contact.0.range(range.clone()), contact.1.range(range.clone()), contact.2.range(range.clone()));
+            let load = if loads.is_empty() { &mut [][..] } else { loads.range(range.clone()) };
+            (range.start, moving, contact, load, &mut block_sums.range(b..b + 1)[0])
+        }
+    };
     if fluid.is_empty() && forces.rotating_frame.is_none() {
         // without a fluid or a rotating frame the non-contact update is gravity alone,
         // `v + h g`: [`NonContactForces::update`]'s dry branch, the same operations, inline
         let (gravity, motion) = (forces.gravity, forces.motion);
-        blocks.into_par_iter().enumerate().for_each(|(b, (v, w, x, _, out))| {
-            *out = kernel.block(b * BLOCK, v, w, x, |_, v, _| *v = motion.kick(*v, h * gravity));
+        team.run(blocks_of(n), &|b| {
+            let (start, moving, contact, _, out) = block(b);
+            *out = kernel.block(start, moving, contact, &mut before(b), |_, v, _| *v = motion.kick(*v, h * gravity));
         });
     } else {
         // half the non-contact update of particle k, its load share into `load`
@@ -112,9 +169,9 @@ pub fn advance_particles(
                 load.slip_reynolds = share.slip_reynolds;
             }
         };
-        blocks.into_par_iter().enumerate().for_each(|(b, (v, w, x, load, out))| {
-            let start = b * BLOCK;
-            *out = kernel.block(start, v, w, x, |k, v, x| update(k, v, x, &mut load[k - start]));
+        team.run(blocks_of(n), &|b| {
+            let (start, moving, contact, load, out) = block(b);
+            *out = kernel.block(start, moving, contact, &mut before(b), |k, v, x| update(k, v, x, &mut load[k - start]));
         });
     }
     let mut total = PassSums { work_second: 0.0, work_first: 0.0, max_displacement_sq: 0.0 };
@@ -134,33 +191,45 @@ struct PassKernel<'a> {
     h: f64,
     dt: f64,
     motion: Motion,
-    mass: &'a [f64],
+    properties: ParticleProperties<'a>,
     inertia: &'a [f64],
-    force: &'a [Vec3],
-    torque: &'a [Vec3],
     origins: Option<&'a [Vec3]>,
 }
 
+/// A block's velocities, spins and positions.
+type Moving<'a> = (&'a mut [Vec3], &'a mut [Vec3], &'a mut [Vec3]);
+/// A block's contact forces, torques and counts.
+type Contact<'a> = (&'a mut [Vec3], &'a mut [Vec3], &'a mut [u32]);
+
 impl PassKernel<'_> {
-    /// The pass over the block of particles from `start` (`v`, `w`, `x`: their velocities,
-    /// spins and positions); `update(k, v, x)` takes half the non-contact update of particle k.
+    /// The pass over the block of particles from `start` (`moving`: their velocities, spins and
+    /// positions; `contact`: their contact forces, torques and counts, which `before`
+    /// completes particle by particle); `update(k, v, x)` takes half the non-contact update of
+    /// particle k.
     #[inline]
     fn block(
         &self,
         start: usize,
-        velocity: &mut [Vec3],
-        spin: &mut [Vec3],
-        position: &mut [Vec3],
+        moving: Moving,
+        contact: Contact,
+        before: &mut impl BeforeMove,
         mut update: impl FnMut(usize, &mut Vec3, &Vec3),
     ) -> BlockSums {
         let Self { pass, h, dt, motion, .. } = *self;
+        let (velocity, spin, position) = moving;
+        let (force, torque, count) = contact;
         let mut sums = BlockSums::default();
         for (j, ((v, w), x)) in velocity.iter_mut().zip(spin.iter_mut()).zip(position.iter_mut()).enumerate() {
             let k = start + j;
-            let m = self.mass[k];
+            before.before_move(j, k, &self.properties, x, v, w, &mut force[j], &mut torque[j], &mut count[j]);
+            let m = self.properties.mass[k];
             // a pass between two sub-steps kicks twice with the same contact force: its velocity
             // changes are divided out once
-            let (dv, dw) = (h * self.force[k] / m, h * self.torque[k] / self.inertia[k]);
+            let (dv, dw) = (h * force[j] / m, h * torque[j] / self.inertia[k]);
+            if pass != Pass::Second {
+                // the next sub-step's pairs add to zero
+                (force[j], torque[j], count[j]) = (Vec3::zeros(), Vec3::zeros(), 0);
+            }
             // the non-contact update's work (its kinetic-energy change)
             let mut updated = |v: &mut Vec3| {
                 let before = v.norm_squared();

@@ -23,9 +23,8 @@ pub mod pair_forces;
 pub mod pair_lanes;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes_avx;
+pub mod team;
 pub mod wall_forces;
-
-use rayon::prelude::*;
 
 use spillage_model::case::Case;
 use spillage_model::closure::drag::FluidAtParticle;
@@ -39,19 +38,17 @@ use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
 use spillage_model::walls::state::{WallFrame, WallState};
 
 use arrays::ParticleArrays;
-use integrate::{advance_particles, Pass, StepSums};
+use integrate::{advance_particles, NothingToAdd, Pass, PassSums, StepSums, BLOCK};
 use neighbour_list::{History, NeighbourList};
 use pair_forces::{evaluate_and_add, first_fault, PairContext};
-use wall_forces::{evaluate_walls, FarFromWalls, NearTriangles, WallContext, WallSide};
+use team::{with_team, Shared, Team};
+use wall_forces::{BlockWalls, CandidateMarks, FarFromWalls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
 /// are listed, and the list lasts until a particle has moved half of it (a tenth of a diameter
 /// keeps the list short in a dense bed and lasts ≈ 50 sub-steps of a 2 m/s rock at the
 /// cutter head's sub-step).
 const SKIN_FRACTION: f64 = 0.1;
-
-/// Particles per block of the wall pass (a few per thread in a 10⁴ bed).
-const WALL_BLOCK: usize = 256;
 
 /// Outer steps between two sorts of the particles by cell when nothing else reloads them
 /// (particles that move apart in space also drift apart in memory).
@@ -108,6 +105,13 @@ struct WallCandidates {
     /// The epoch of the last wall pass (marks are made once the walls kept their poses for a
     /// sub-step).
     last_epoch: Option<u64>,
+}
+
+/// A sub-step's fault: the sub-step (from 0), its end time and what happened.
+struct SubstepFault {
+    k: u64,
+    time: f64,
+    fault: Fault,
 }
 
 /// What the contacts of one sub-step add up to.
@@ -244,17 +248,67 @@ impl FastDem {
         }
     }
 
-    /// Contact forces and torques at the current positions (§7.8); the first fault, if any;
-    /// the pair contacts' totals only when `totals_needed`, the walls' always.
-    fn evaluate_contacts(
+    /// The step's `n` sub-steps of equal length, as the reference takes them
+    /// (`ReferenceDem::advance`), their impacts logged into `impacts`; the last sub-step's
+    /// contact totals, or the first fault and where it happened.
+    #[allow(clippy::too_many_arguments)]
+    fn substeps(
         &mut self,
+        ctx: &StepContext,
+        walls: &mut WallState,
+        fluid: &[Option<FluidAtParticle>],
+        n: u64,
+        feeding: bool,
+        impacts: &mut Vec<ImpactRecord>,
+        team: &Team,
+    ) -> Result<ContactTotals, SubstepFault> {
+        let dt_s = ctx.dt / n as f64;
+        let mut pass =
+            advance_particles(Pass::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at(), team, |_| NothingToAdd);
+        self.budget.external += pass.work_first;
+        let mut totals = ContactTotals::default();
+        for k in 0..n {
+            let elapsed = (k + 1) as f64 * dt_s;
+            // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose)
+            let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
+            let max_displacement_sq = pass.max_displacement_sq;
+            walls.place(end_time, rotor_end.as_ref());
+            // this sub-step's second half, with the next one's first half when there is one
+            let next = if k + 1 == n { Pass::Second } else { Pass::Between };
+            let (sub, fault, sums) = self.substep(next, walls, fluid, end_time, dt_s, max_displacement_sq, feeding || k + 1 == n, impacts, team);
+            self.budget.walls += dt_s * sub.wall_power;
+            self.budget.placed += sub.placed;
+            if let Some(fault) = fault {
+                return Err(SubstepFault { k, time: end_time, fault });
+            }
+            pass = sums;
+            self.budget.external += pass.work_second;
+            if next == Pass::Between {
+                self.budget.external += pass.work_first;
+            }
+            totals = sub;
+        }
+        Ok(totals)
+    }
+
+    /// One sub-step after its first half: the contact forces and torques at the current
+    /// positions (§7.8), then one pass over the particles (`next`: [`Pass::Between`] or
+    /// [`Pass::Second`]) that adds each particle's wall contacts just before it moves it.
+    /// Returns the contacts' totals (the pairs' only when `totals_needed`, the walls' always),
+    /// the first fault, if any, and the pass's sums.
+    #[allow(clippy::too_many_arguments)]
+    fn substep(
+        &mut self,
+        next: Pass,
         walls: &WallState,
+        fluid: &[Option<FluidAtParticle>],
         time: f64,
         dt: f64,
         max_displacement_sq: f64,
         totals_needed: bool,
         impacts: &mut Vec<ImpactRecord>,
-    ) -> (ContactTotals, Option<Fault>) {
+        team: &Team,
+    ) -> (ContactTotals, Option<Fault>, PassSums) {
         if self.list.is_stale(&self.arrays, max_displacement_sq) {
             self.list.build(&self.arrays, &self.setup.materials, History::Previous);
             self.candidates.epoch = None;
@@ -262,10 +316,14 @@ impl FastDem {
         let pair_context =
             PairContext { materials: &self.setup.materials, wet_fluid: self.setup.wet_fluid, time, dt, fed_from: self.fed_from, energy: totals_needed };
         let (list, arrays) = (&mut self.list, &mut self.arrays);
+        // the last pass left the sums at zero
         let mut forces = std::mem::take(&mut arrays.force);
         let mut torques = std::mem::take(&mut arrays.torque);
         let mut counts = std::mem::take(&mut arrays.contacts);
-        let pair_fault = evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts);
+        let pair_fault = evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts, team);
+        (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
+        // found at the positions the pairs were evaluated at, before the pass moves them
+        let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
         self.place_frames(walls);
         let wall_context = WallContext {
             materials: &self.setup.materials,
@@ -282,9 +340,8 @@ impl FastDem {
             dt,
             fed_from: self.fed_from,
         };
-        let arrays = &self.arrays;
         let n_walls = walls.walls.len();
-        if n_walls > 0 {
+        let pass = if n_walls > 0 {
             let epoch = wall_context.epoch;
             let candidates = &mut self.candidates;
             // only the marked particles can touch a wall; once the walls kept their poses for a
@@ -292,40 +349,38 @@ impl FastDem {
             let pick = candidates.epoch == Some(epoch);
             let mark = !pick && candidates.last_epoch == Some(epoch);
             candidates.last_epoch = Some(epoch);
-            let (built_at, skin) = (self.list.built_at(), self.list.skin);
-            // blocks of particles, each a plain loop: a parallel iterator per particle costs
-            // more than skipping one
-            let particles = (forces.par_chunks_mut(WALL_BLOCK), torques.par_chunks_mut(WALL_BLOCK), counts.par_chunks_mut(WALL_BLOCK));
-            let sides = (
-                self.far.par_chunks_mut(WALL_BLOCK),
-                self.wall_sides.par_chunks_mut(WALL_BLOCK),
-                self.at_wall.par_chunks_mut(WALL_BLOCK),
-                candidates.may_touch.par_chunks_mut(WALL_BLOCK),
-                self.near.par_chunks_mut(WALL_BLOCK * n_walls),
-            );
-            (particles, sides).into_par_iter().enumerate().for_each(|(b, ((f, t, c), (far, side, at_wall, may_touch, near)))| {
-                for j in 0..f.len() {
-                    if pick && !may_touch[j] {
-                        continue;
-                    }
-                    let k = b * WALL_BLOCK + j;
-                    let near = &mut near[j * n_walls..(j + 1) * n_walls];
-                    // a particle far from every wall keeps its empty side and `at_wall` false
-                    if evaluate_walls(k, arrays, &wall_context, &mut far[j], near, &mut side[j], &mut f[j], &mut t[j]) {
-                        c[j] += side[j].contacts;
-                        at_wall[j] = side[j].contacts > 0 || side[j].fault.is_some() || !side[j].impacts.is_empty();
-                    }
-                    if mark {
-                        may_touch[j] = !far[j].stays_far_while_listed(&built_at[k], epoch, skin);
+            let marks = CandidateMarks { pick, mark, built_at: self.list.built_at() };
+            let context = &wall_context;
+            let n = self.arrays.len();
+            let far = Shared::new(&mut self.far);
+            let sides = Shared::new(&mut self.wall_sides);
+            let at_wall = Shared::new(&mut self.at_wall);
+            let may_touch = Shared::new(&mut candidates.may_touch);
+            let near = Shared::new(&mut self.near);
+            // block b's share of the particles' wall state (the pass makes each block's once)
+            let before = |b: usize| {
+                let range = b * BLOCK..n.min((b + 1) * BLOCK);
+                // SAFETY: block b's own range of each array
+                unsafe {
+                    BlockWalls {
+                        context,
+                        candidates: marks,
+                        far: far.range(range.clone()),
+                        sides: sides.range(range.clone()),
+                        at_wall: at_wall.range(range.clone()),
+                        may_touch: may_touch.range(range.clone()),
+                        near: near.range(range.start * n_walls..range.end * n_walls),
                     }
                 }
-            });
+            };
+            let pass = advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt, self.list.built_at(), team, before);
             if mark {
                 candidates.epoch = Some(epoch);
             }
-        }
-        let arrays = &mut self.arrays;
-        (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
+            pass
+        } else {
+            advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt, self.list.built_at(), team, |_| NothingToAdd)
+        };
 
         // the pair totals feed the energy guard at the step's end and, while fed particles
         // make their first contacts, at every sub-step
@@ -339,7 +394,6 @@ impl FastDem {
                 totals.placed += e.placed;
             }
         }
-        let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
         let mut wall_fault: Option<(u64, Fault)> = None;
         let first_impact = impacts.len();
         // a side without contact, impact or fault adds zeros (exactly: the sums keep their bits)
@@ -362,7 +416,7 @@ impl FastDem {
         }
         // the reference logs a sub-step's impacts particle by particle in id order
         impacts[first_impact..].sort_by_key(|i| i.particle);
-        (totals, fault)
+        (totals, fault, pass)
     }
 }
 
@@ -392,47 +446,27 @@ impl ParticlePhase for FastDem {
         self.wall_meshes.refresh(walls).map_err(unsupported)?;
         let elastic_start = particles.contacts.is_empty().then_some(0.0);
         let n = substeps_for(&self.setup.section, &self.setup.materials, ctx.dt, &particles.particles, walls);
-        let dt_s = ctx.dt / n as f64;
         if fluid.len() != particles.particles.len() {
             return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
         }
         self.budget.start_step(&particles.particles);
         self.take(particles);
-        let mut totals = ContactTotals::default();
         let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
         // without any fluid sample (a DEM-only run) the sub-steps need not look each one up
         let fluid = if fluid.iter().all(Option::is_none) { &[] } else { fluid };
         let mut impacts = std::mem::take(&mut particles.impacts);
         let logged_before = impacts.len();
-        let mut pass = advance_particles(Pass::First, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
-        self.budget.external += pass.work_first;
-        for k in 0..n {
-            let elapsed = (k + 1) as f64 * dt_s;
-            // the last sub-step ends exactly where the step does (tⁿ⁺¹, the step's rotor pose)
-            let (end_time, rotor_end) = if k + 1 == n { (ctx.time_end(), ctx.rotor) } else { (ctx.time + elapsed, ctx.rotor_after(elapsed)) };
-            let max_displacement_sq = pass.max_displacement_sq;
-            walls.place(end_time, rotor_end.as_ref());
-            let (sub, fault) = self.evaluate_contacts(walls, end_time, dt_s, max_displacement_sq, feeding || k + 1 == n, &mut impacts);
-            self.budget.walls += dt_s * sub.wall_power;
-            self.budget.placed += sub.placed;
-            if let Some(fault) = fault {
+        // the sub-steps' parallel parts run on a team kept awake for the whole step
+        let substeps = with_team(|team| self.substeps(ctx, walls, fluid, n, feeding, &mut impacts, team));
+        let totals = match substeps {
+            Ok(totals) => totals,
+            Err(SubstepFault { k, time, fault }) => {
+                // the pass has moved the particles on: the driver rewinds the step
                 self.arrays.store(&mut particles.particles);
                 particles.impacts = impacts;
-                return Err(SolverError::Diverged {
-                    step: ctx.step,
-                    time: end_time,
-                    what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1),
-                });
+                return Err(SolverError::Diverged { step: ctx.step, time, what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1) });
             }
-            // this sub-step's second half, with the next one's first half when there is one
-            let next = if k + 1 == n { Pass::Second } else { Pass::Between };
-            pass = advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt_s, self.list.built_at());
-            self.budget.external += pass.work_second;
-            if next == Pass::Between {
-                self.budget.external += pass.work_first;
-            }
-            totals = sub;
-        }
+        };
         self.arrays.store(&mut particles.particles);
         particles.counts.impacts += impacts[logged_before..].iter().filter(|i| !i.sliding).count() as u64;
         particles.impacts = impacts;

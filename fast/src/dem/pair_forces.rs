@@ -4,7 +4,7 @@
 //! adds them, so both give the same bits and the result does not depend on the number of
 //! threads.
 
-use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use spillage_model::closure::contact::{hertz_mindlin_force, PairConstants};
 use spillage_model::particles::first_touch::pair_record;
@@ -16,6 +16,7 @@ use spillage_model::particles::ContactRecord;
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
 use super::pair_lanes::{four_pairs, FourPairs, Lane};
+use super::team::{Shared, Team};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -33,7 +34,8 @@ pub struct PairContext<'a> {
 
 /// Every listed pair evaluated into its entries and added to its two particles' `force`,
 /// `torque` and `count` as it goes (no second pass over the pairs' forces); true when some pair
-/// has a fault (found by [`first_fault`]).
+/// has a fault (found by [`first_fault`]). The sums start from what they hold: zero, as the
+/// pass that moved the particles left them ([`super::integrate::advance_particles`]).
 ///
 /// The list is in ascending (id of a, id of b), so each particle receives its pairs in ascending
 /// partner id, the reference's order of summation. The threads take consecutive segments of the
@@ -48,27 +50,31 @@ pub fn evaluate_and_add(
     force: &mut [Vec3],
     torque: &mut [Vec3],
     count: &mut [u32],
+    team: &Team,
 ) -> bool {
     if list.segments.threads != rayon::current_num_threads() || list.segments.first.len() != arrays.len() {
         list.segments.plan(&list.pairs, arrays.len(), rayon::current_num_threads());
     }
-    (&mut *force, &mut *torque, &mut *count).into_par_iter().with_min_len(1024).for_each(|(f, t, c)| {
-        (*f, *t, *c) = (Vec3::zeros(), Vec3::zeros(), 0);
-    });
     let NeighbourList { pairs, constants, touch, records, energy, forces, segments, set_aside, .. } = list;
     let chunk = segments.chunk;
-    set_aside.resize_with(pairs.len().div_ceil(chunk), Vec::new);
+    let n_segments = pairs.len().div_ceil(chunk);
+    set_aside.resize_with(n_segments, Vec::new);
     let sums = SharedSums::new(force, torque, count);
-    let segment_slices =
-        (pairs.par_chunks(chunk), touch.par_chunks_mut(chunk), records.par_chunks_mut(chunk), energy.par_chunks_mut(chunk), forces.par_chunks_mut(chunk));
-    let fault = (segment_slices, set_aside.par_iter_mut())
-        .into_par_iter()
-        .enumerate()
-        .map(|(s, ((pairs, touch, records, energy, kept), aside))| {
-            let segment = Segment { index: s as u32, first: &segments.first, sums: &sums, aside };
-            segment.evaluate(pairs, constants, touch, records, energy, kept, arrays, context)
-        })
-        .reduce(|| false, |x, y| x || y);
+    let (touch, records, energy, kept, aside) = (Shared::new(touch), Shared::new(records), Shared::new(energy), Shared::new(forces), Shared::new(set_aside));
+    let fault = AtomicBool::new(false);
+    // each segment is one piece of the part, run once
+    team.run(n_segments, &|s| {
+        let range = s * chunk..pairs.len().min((s + 1) * chunk);
+        // SAFETY: segment s's own range of the pairs' entries, and its own buffer
+        let (touch, records, energy, kept, aside) = unsafe {
+            (touch.range(range.clone()), records.range(range.clone()), energy.range(range.clone()), kept.range(range.clone()), &mut aside.range(s..s + 1)[0])
+        };
+        let segment = Segment { index: s as u32, first: &segments.first, sums: &sums, aside };
+        if segment.evaluate(&pairs[range], constants, touch, records, energy, kept, arrays, context) {
+            fault.store(true, Ordering::Relaxed);
+        }
+    });
+    let fault = fault.into_inner();
     for contribution in set_aside.iter().flatten() {
         // SAFETY: the segments are joined; nothing else holds the sums' memory now
         unsafe { sums.add(contribution.particle as usize, contribution.is_a, &contribution.force) };
@@ -286,6 +292,7 @@ pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64)
 mod tests {
     use super::*;
     use crate::dem::neighbour_list::History;
+    use crate::dem::team::with_team;
     use spillage_model::closure::contact::SlipTest;
     use spillage_model::particles::random::SplitMix64;
     use spillage_model::particles::settings::MaterialSection;
@@ -336,7 +343,8 @@ mod tests {
                 let (mut force, mut torque, mut count) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n], vec![0; n]);
                 let mut all = Vec::new();
                 for _ in 0..3 {
-                    evaluate_and_add(&mut list, &arrays, &context, &mut force, &mut torque, &mut count);
+                    (force.fill(Vec3::zeros()), torque.fill(Vec3::zeros()), count.fill(0));
+                    with_team(|team| evaluate_and_add(&mut list, &arrays, &context, &mut force, &mut torque, &mut count, team));
                     all.push((force.clone(), torque.clone(), count.clone()));
                 }
                 let aside = list.set_aside.iter().map(Vec::len).sum::<usize>();

@@ -18,7 +18,8 @@ use spillage_model::walls::geometry::{ContactScratch, WallMesh};
 use spillage_model::walls::state::{Wall, WallFrame};
 use spillage_model::wear::sliding::sliding_impact;
 
-use super::arrays::ParticleArrays;
+use super::arrays::ParticleProperties;
+use super::integrate::BeforeMove;
 
 /// The triangles of one wall near one particle.
 #[derive(Clone, Debug, Default)]
@@ -108,6 +109,67 @@ pub struct WallContext<'a> {
     pub fed_from: u64,
 }
 
+/// The wall pass over one block of the particles ([`super::integrate::BLOCK`]), run particle
+/// by particle by the pass that then moves them: each particle's state here is the block's
+/// slice of the bed's.
+pub struct BlockWalls<'a> {
+    pub context: &'a WallContext<'a>,
+    pub candidates: CandidateMarks<'a>,
+    pub far: &'a mut [FarFromWalls],
+    pub sides: &'a mut [WallSide],
+    /// Whether the particle's last evaluation found a wall contact, an impact or a fault.
+    pub at_wall: &'a mut [bool],
+    /// Whether the particle may touch a wall while the marks hold.
+    pub may_touch: &'a mut [bool],
+    /// The particles' near triangles, [`WallContext::meshes`] per particle.
+    pub near: &'a mut [NearTriangles],
+}
+
+/// How the pass uses and makes the marks of the particles that may touch a wall (the
+/// driver's `WallCandidates`).
+#[derive(Clone, Copy)]
+pub struct CandidateMarks<'a> {
+    /// Skip the particles not marked.
+    pub pick: bool,
+    /// Mark the particles (the walls kept their poses for a sub-step).
+    pub mark: bool,
+    /// The neighbour list's build positions (internal order).
+    pub built_at: &'a [Vec3],
+}
+
+impl BeforeMove for BlockWalls<'_> {
+    #[inline]
+    fn before_move(
+        &mut self,
+        j: usize,
+        k: usize,
+        properties: &ParticleProperties,
+        position: &Vec3,
+        velocity: &Vec3,
+        spin: &Vec3,
+        force: &mut Vec3,
+        torque: &mut Vec3,
+        count: &mut u32,
+    ) {
+        let CandidateMarks { pick, mark, built_at } = self.candidates;
+        if pick && !self.may_touch[j] {
+            return;
+        }
+        let n_walls = self.context.meshes.len();
+        let near = &mut self.near[j * n_walls..(j + 1) * n_walls];
+        let (far, side) = (&mut self.far[j], &mut self.sides[j]);
+        let particle = WallParticle { k, position: *position, velocity: *velocity, spin: *spin, properties: *properties };
+        // a particle far from every wall keeps its empty side and `at_wall` false
+        if evaluate_walls(&particle, self.context, far, near, side, force, torque) {
+            *count += side.contacts;
+            self.at_wall[j] = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
+        }
+        if mark {
+            self.may_touch[j] = !far.stays_far_while_listed(&built_at[k], self.context.epoch, self.context.skin);
+        }
+    }
+}
+
 /// Per-thread work buffers (reused across sub-steps: nothing is allocated once they grew).
 #[derive(Default)]
 struct Scratch {
@@ -121,7 +183,24 @@ thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
-/// Evaluates particle `k`'s wall contacts into `side`, adding their force and torque to
+/// A particle whose wall contacts are evaluated: its internal index, where it is and how it
+/// moves at the sub-step's end (read from its block before the pass moves it on), and what it is.
+pub struct WallParticle<'a> {
+    pub k: usize,
+    pub position: Vec3,
+    pub velocity: Vec3,
+    pub spin: Vec3,
+    pub properties: ParticleProperties<'a>,
+}
+
+impl WallParticle<'_> {
+    /// As the shared model functions take it (first touches, faults).
+    fn particle(&self) -> spillage_model::particles::Particle {
+        self.properties.particle(self.k, self.position, self.velocity, self.spin)
+    }
+}
+
+/// Evaluates `particle`'s wall contacts into `side`, adding their force and torque to
 /// `force` and `torque` (in the reference's order: wall by wall, contact by contact). `near`
 /// holds the particle's near triangles of each wall (kept in one flat array for all particles:
 /// a pointer per particle to chase cost a third of the walls' time).
@@ -130,8 +209,7 @@ thread_local! {
 /// every wall: `side` then still holds the empty result of the evaluation that found it far.
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_walls(
-    k: usize,
-    arrays: &ParticleArrays,
+    particle: &WallParticle,
     context: &WallContext,
     far: &mut FarFromWalls,
     near: &mut [NearTriangles],
@@ -140,13 +218,14 @@ pub fn evaluate_walls(
     torque: &mut Vec3,
 ) -> bool {
     let reach_sq = STILL_WALL_REACH * context.skin * context.skin;
-    if far.epoch == context.epoch && (arrays.position[k] - far.world).norm_squared() <= reach_sq {
+    if far.epoch == context.epoch && (particle.position - far.world).norm_squared() <= reach_sq {
         return false;
     }
     far.epoch = 0;
     side.impacts.clear();
     (side.power, side.elastic, side.placed, side.contacts, side.max_overlap_ratio, side.fault) = (0.0, 0.0, 0.0, 0, 0.0, None);
-    let (id, r, x) = (arrays.id[k], arrays.radius[k], arrays.position[k]);
+    let (k, properties) = (particle.k, &particle.properties);
+    let (id, r, x) = (properties.id[k], properties.radius[k], particle.position);
     let fed = id >= context.fed_from;
     // most particles are far from every wall: find that out without touching the buffers
     let mut near_any = false;
@@ -193,7 +272,7 @@ pub fn evaluate_walls(
                 let point = frame.to_world(contact.point);
                 let overlap = r - contact.distance;
                 if contact.distance <= 1e-12 * r || (overlap > MAX_OVERLAP_RATIO * r && !fed) {
-                    let fault = wall_fault(&arrays.particle(k), w as u32, contact.distance, overlap, fed);
+                    let fault = wall_fault(&particle.particle(), w as u32, contact.distance, overlap, fed);
                     let on_wall = matches!(fault, Some(Fault::CentreOnWall { .. }));
                     if side.fault.is_none() {
                         side.fault = fault;
@@ -204,7 +283,7 @@ pub fn evaluate_walls(
                 }
                 let normal = (point - x) / contact.distance;
                 let wall_velocity = wall.surface_velocity(point);
-                let v_rel = arrays.velocity[k] + arrays.spin[k].cross(&(r * normal)) - wall_velocity;
+                let v_rel = particle.velocity + particle.spin.cross(&(r * normal)) - wall_velocity;
                 let (old, continued) = (&scratch.old_history, &scratch.continued);
                 let previous = old.iter().enumerate().filter(|(k, h)| h.partner == Partner::Wall(w as u32) && !continued[*k]);
                 let matched = continued_wall_contact(previous, &normal);
@@ -215,7 +294,7 @@ pub fn evaluate_walls(
                         scratch.old_history[m].clone()
                     }
                     None => {
-                        let p = arrays.particle(k);
+                        let p = particle.particle();
                         side.impacts.push(impact(&p, w as u32, contact, body, wall_velocity, normal, context.time));
                         wall_record(context.materials, context.wet_fluid, &p, w as u32, wall.material, normal, v_rel, context.time)
                     }
@@ -223,7 +302,7 @@ pub fn evaluate_walls(
                 let constants = match side.constants {
                     Some((material, constants)) if material == wall.material => constants,
                     _ => {
-                        let constants = context.materials.constants(arrays.material[k], wall.material, r, f64::INFINITY, arrays.mass[k], f64::INFINITY);
+                        let constants = context.materials.constants(properties.material[k], wall.material, r, f64::INFINITY, properties.mass[k], f64::INFINITY);
                         side.constants = Some((wall.material, constants));
                         constants
                     }
@@ -231,7 +310,7 @@ pub fn evaluate_walls(
                 let f = hertz_mindlin_force(&constants, record.damping_ratio, normal, overlap, v_rel, &mut record.tangential_overlap, context.dt);
                 record.normal = normal;
                 if context.sliding_walls[w] {
-                    let p = arrays.particle(k);
+                    let p = particle.particle();
                     side.impacts.extend(sliding_impact(&mut record, &p, w as u32, contact, body, wall_velocity, normal, f.normal, context.dt, context.time));
                 }
                 let elastic = 0.4 * f.normal.norm() * overlap;

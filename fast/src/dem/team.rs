@@ -1,0 +1,259 @@
+//! The threads of one DEM step kept awake from one parallel part of a sub-step to the next.
+//!
+//! A sub-step has two parallel parts (the pair segments, then the pass over the particles),
+//! each a fraction of a millisecond in a 10⁴ bed. Handed to rayon one by one, each part waited
+//! for a sleeping worker to wake: measured on the 2-core VM, the second segment started
+//! 60–230 µs after the first, per part and sub-step, which held two threads to 1.2–1.5× one.
+//! A [`Team`] instead keeps the pool's other workers spinning on a shared ticket for the length
+//! of the step, and each part is split into pieces that any member claims (the caller too), so
+//! a piece starts within a spin of being posted.
+//!
+//! Which thread runs which piece does not matter for the results: the pieces write disjoint
+//! memory and their sums are combined in piece order, so the bits are those of one thread.
+//! A member that never joins (the pool's workers busy elsewhere) leaves its pieces to the
+//! others; with one thread the caller runs every piece in order.
+
+use std::any::Any;
+use std::marker::PhantomData;
+use std::ops::Range;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// A part of a sub-step, run piece by piece: `piece(i)` for every i below the piece count.
+pub type Part<'a> = dyn Fn(usize) + Sync + 'a;
+
+/// The posted part: its number, the pieces it has, and the part itself with its lifetime
+/// erased (sound because [`Team::run`] returns only once every claimed piece has finished, and
+/// a piece is claimed only while its part is posted).
+#[derive(Clone, Copy)]
+struct Posted {
+    part: u64,
+    pieces: usize,
+    run: *const Part<'static>,
+}
+
+// SAFETY: the pointer is dereferenced only by a member holding a claimed piece of the posted
+// part, which `Team::run` outlives (see `Posted`); the part itself is `Sync`.
+unsafe impl Send for Posted {}
+
+/// Iterations of the members' spin between two looks for other rayon work (a list build run
+/// with rayon's parallel iterators meanwhile is helped by the spinning members) and, finding
+/// none, a yield of the core to the system.
+const SPINS_PER_YIELD: u32 = 64;
+
+/// What a team holds before its first part.
+fn no_part(_: usize) {}
+
+/// Threads running the parts of a step together ([`with_team`]).
+pub struct Team {
+    posted: Mutex<Posted>,
+    /// The part's number in the upper 32 bits, the next unclaimed piece in the lower.
+    ticket: AtomicU64,
+    /// Pieces of the posted part finished.
+    finished: AtomicUsize,
+    /// A piece panicked: its payload, re-raised by [`Team::run`] on the caller.
+    panic: Mutex<Option<Box<dyn Any + Send>>>,
+    stop: AtomicBool,
+    /// The caller's count of parts posted.
+    parts: AtomicU64,
+}
+
+impl Team {
+    fn new() -> Self {
+        Self {
+            posted: Mutex::new(Posted { part: 0, pieces: 0, run: &no_part as &Part<'static> as *const Part<'static> }),
+            ticket: AtomicU64::new(0),
+            finished: AtomicUsize::new(0),
+            panic: Mutex::new(None),
+            stop: AtomicBool::new(false),
+            parts: AtomicU64::new(0),
+        }
+    }
+
+    /// Runs `part(i)` for every piece `i < pieces`, spread over the members, and returns once
+    /// all have finished. Called by the team's owner only (the closure of [`with_team`]).
+    pub fn run(&self, pieces: usize, part: &Part) {
+        if pieces == 0 {
+            return;
+        }
+        let number = self.parts.fetch_add(1, Ordering::Relaxed) + 1;
+        assert!(number < 1 << 32 && pieces < 1 << 32, "a team posts fewer than 2³² parts of fewer than 2³² pieces");
+        // SAFETY: only the lifetime is erased; see `Posted`.
+        let run = unsafe { std::mem::transmute::<*const Part<'_>, *const Part<'static>>(part as *const Part) };
+        *self.posted.lock().unwrap_or_else(|e| e.into_inner()) = Posted { part: number, pieces, run };
+        self.finished.store(0, Ordering::Relaxed);
+        // publishes the part (Release: a member that sees the ticket sees the posted part)
+        self.ticket.store(number << 32, Ordering::Release);
+        self.claim_pieces(number, pieces, part);
+        while self.finished.load(Ordering::Acquire) < pieces {
+            std::hint::spin_loop();
+        }
+        if let Some(payload) = self.panic.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            std::panic::resume_unwind(payload);
+        }
+    }
+
+    /// Claims and runs pieces of part `number` until none is left (or another part is posted).
+    fn claim_pieces(&self, number: u64, pieces: usize, part: &Part) {
+        let mut ticket = self.ticket.load(Ordering::Acquire);
+        loop {
+            let piece = (ticket & 0xffff_ffff) as usize;
+            if ticket >> 32 != number || piece >= pieces {
+                return;
+            }
+            match self.ticket.compare_exchange_weak(ticket, ticket + 1, Ordering::AcqRel, Ordering::Acquire) {
+                Ok(_) => {
+                    if let Err(payload) = catch_unwind(AssertUnwindSafe(|| part(piece))) {
+                        *self.panic.lock().unwrap_or_else(|e| e.into_inner()) = Some(payload);
+                    }
+                    self.finished.fetch_add(1, Ordering::Release);
+                    ticket = self.ticket.load(Ordering::Acquire);
+                }
+                Err(now) => ticket = now,
+            }
+        }
+    }
+
+    /// A member's loop: spin on the ticket, help with the posted part, until stopped.
+    fn help(&self) {
+        let mut done_with = 0;
+        let mut spins = 0u32;
+        while !self.stop.load(Ordering::Acquire) {
+            let ticket = self.ticket.load(Ordering::Acquire);
+            let number = ticket >> 32;
+            if number != done_with {
+                let posted = *self.posted.lock().unwrap_or_else(|e| e.into_inner());
+                if posted.part == number {
+                    // SAFETY: a piece of this part is run only after claiming it, while the
+                    // part is posted (its ticket carries its number), and `run` waits for it.
+                    let part = unsafe { &*posted.run };
+                    self.claim_pieces(number, posted.pieces, part);
+                    done_with = number;
+                }
+                continue;
+            }
+            spins += 1;
+            if spins == SPINS_PER_YIELD {
+                spins = 0;
+                // other rayon work of the step (a neighbour-list build) is helped meanwhile;
+                // with none, the core is offered to the system (a pool with more threads than
+                // cores must not starve the thread that posts the parts)
+                if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                    std::thread::yield_now();
+                }
+            } else {
+                std::hint::spin_loop();
+            }
+        }
+    }
+}
+
+/// Runs `f` with a team of the current rayon pool's threads: the pool's other workers spin on
+/// the team until `f` returns. With one thread, `f`'s parts run on the caller alone.
+pub fn with_team<R: Send>(f: impl FnOnce(&Team) -> R + Send) -> R {
+    let team = Team::new();
+    let members = rayon::current_num_threads();
+    if members <= 1 {
+        return f(&team);
+    }
+    rayon::scope(|scope| {
+        for _ in 1..members {
+            scope.spawn(|_| team.help());
+        }
+        let result = catch_unwind(AssertUnwindSafe(|| f(&team)));
+        team.stop.store(true, Ordering::Release);
+        result.unwrap_or_else(|payload| std::panic::resume_unwind(payload))
+    })
+}
+
+/// A slice the pieces of a part share, each piece taking its own range of it.
+pub struct Shared<'a, T> {
+    start: *mut T,
+    len: usize,
+    slice: PhantomData<&'a mut [T]>,
+}
+
+// SAFETY: the pieces take disjoint ranges (the contract of `range`), as `par_chunks_mut` would
+// hand them out.
+unsafe impl<T: Send> Sync for Shared<'_, T> {}
+
+impl<'a, T> Shared<'a, T> {
+    pub fn new(slice: &'a mut [T]) -> Self {
+        Self { start: slice.as_mut_ptr(), len: slice.len(), slice: PhantomData }
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The elements in `range`.
+    ///
+    /// # Safety
+    /// No other range taken from this slice and still in use overlaps `range`.
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn range(&self, range: Range<usize>) -> &'a mut [T] {
+        assert!(range.start <= range.end && range.end <= self.len, "range {range:?} of a slice of {}", self.len);
+        // SAFETY: in bounds (above); exclusive by the caller's contract.
+        unsafe { std::slice::from_raw_parts_mut(self.start.add(range.start), range.end - range.start) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every piece of every part runs exactly once, on whichever member claims it, and a part's
+    /// writes are all visible when `run` returns; a team of one runs them in order.
+    #[test]
+    fn every_piece_runs_once_per_part() {
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let counts: Vec<AtomicUsize> = (0..97).map(|_| AtomicUsize::new(0)).collect();
+            let order = Mutex::new(Vec::new());
+            pool.install(|| {
+                with_team(|team| {
+                    for round in 0..500 {
+                        let pieces = 1 + round % 97;
+                        team.run(pieces, &|i| {
+                            counts[i].fetch_add(1, Ordering::Relaxed);
+                            if threads == 1 && round == 0 {
+                                order.lock().unwrap().push(i);
+                            }
+                        });
+                        // everything the part did is done
+                        let total: usize = counts.iter().map(|c| c.load(Ordering::Relaxed)).sum();
+                        let expected: usize = (0..=round).map(|r| 1 + r % 97).sum();
+                        assert_eq!(total, expected, "{threads} threads, round {round}");
+                    }
+                })
+            });
+            if threads == 1 {
+                assert_eq!(*order.lock().unwrap(), vec![0]);
+            }
+        }
+    }
+
+    /// A panicking piece reaches the caller of `run` instead of hanging the team.
+    #[test]
+    fn a_panicking_piece_reaches_the_caller() {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let caught = pool.install(|| {
+            catch_unwind(AssertUnwindSafe(|| {
+                with_team(|team| {
+                    team.run(8, &|i| {
+                        if i == 5 {
+                            panic!("piece 5");
+                        }
+                    })
+                })
+            }))
+        });
+        let payload = caught.expect_err("the panic reaches the caller");
+        assert_eq!(payload.downcast_ref::<&str>(), Some(&"piece 5"));
+    }
+}
