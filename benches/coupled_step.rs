@@ -15,6 +15,7 @@ use std::time::Instant;
 use criterion::{criterion_group, Criterion};
 use spillage_fast::dem::FastDem;
 use spillage_fast::fluid::FastFluid;
+use spillage_fast::team::keep_awake;
 use spillage_model::case::Case;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
@@ -92,12 +93,15 @@ fn fine_times(case: &Case) -> (f64, f64) {
     let dem = ReferenceDem::new(case, &mut state).expect("reference DEM");
     let r = seconds_per_step(&mut Coupled::new(case, state, Some(fluid), Some(dem)).expect("run"), 3);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+    // the pool's other worker kept awake, as `spillage run` keeps it
     let f = pool.install(|| {
-        let mut state = State::default();
-        let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
-        let dem = FastDem::new(case, &mut state).expect("fast DEM");
-        let mut run = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
-        seconds_per_step(&mut run, 6)
+        keep_awake(|| {
+            let mut state = State::default();
+            let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
+            let dem = FastDem::new(case, &mut state).expect("fast DEM");
+            let mut run = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
+            seconds_per_step(&mut run, 6)
+        })
     });
     (r, f)
 }
@@ -134,7 +138,7 @@ fn fine_mapping_times(case: &Case) -> (f64, f64) {
     };
     let r = time(&reference);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
-    let f = pool.install(|| time(&fast));
+    let f = pool.install(|| keep_awake(|| time(&fast)));
     (r, f)
 }
 

@@ -9,4 +9,5 @@ pub mod coupling;
 pub mod dem;
 pub mod fluid;
 pub mod linear;
+pub mod team;
 pub mod wear;

@@ -13,7 +13,7 @@ use spillage_model::particles::settings::Motion;
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::{ParticleArrays, ParticleProperties};
-use super::team::{Shared, Team};
+use crate::team::{Shared, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
 /// order, then the blocks in order, so the sums do not depend on the number of threads. Each

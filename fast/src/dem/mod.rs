@@ -23,7 +23,6 @@ pub mod pair_forces;
 pub mod pair_lanes;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes_avx;
-pub mod team;
 pub mod wall_forces;
 
 use spillage_model::case::Case;
@@ -37,11 +36,11 @@ use spillage_model::state::State;
 use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
 use spillage_model::walls::state::{WallFrame, WallState};
 
+use crate::team::{with_team, Shared, Team};
 use arrays::ParticleArrays;
 use integrate::{advance_particles, NothingToAdd, Pass, PassSums, StepSums, BLOCK};
 use neighbour_list::{History, NeighbourList};
 use pair_forces::{evaluate_and_add, first_fault, PairContext};
-use team::{with_team, Shared, Team};
 use wall_forces::{BlockWalls, CandidateMarks, FarFromWalls, NearTriangles, WallContext, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap

@@ -16,7 +16,7 @@ use spillage_model::particles::ContactRecord;
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
 use super::pair_lanes::{four_pairs, FourPairs, Lane};
-use super::team::{Shared, Team};
+use crate::team::{Shared, Team};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -292,7 +292,7 @@ pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64)
 mod tests {
     use super::*;
     use crate::dem::neighbour_list::History;
-    use crate::dem::team::with_team;
+    use crate::team::with_team;
     use spillage_model::closure::contact::SlipTest;
     use spillage_model::particles::random::SplitMix64;
     use spillage_model::particles::settings::MaterialSection;

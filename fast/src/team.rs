@@ -1,12 +1,16 @@
-//! The threads of one DEM step kept awake from one parallel part of a sub-step to the next.
+//! The pool's threads kept awake from one parallel loop to the next.
 //!
-//! A sub-step has two parallel parts (the pair segments, then the pass over the particles),
-//! each a fraction of a millisecond in a 10⁴ bed. Handed to rayon one by one, each part waited
-//! for a sleeping worker to wake: measured on the 2-core VM, the second segment started
-//! 60–230 µs after the first, per part and sub-step, which held two threads to 1.2–1.5× one.
-//! A [`Team`] instead keeps the pool's other workers spinning on a shared ticket for the length
-//! of the step, and each part is split into pieces that any member claims (the caller too), so
-//! a piece starts within a spin of being posted.
+//! A DEM sub-step has two parallel parts (the pair segments, then the pass over the particles),
+//! each a fraction of a millisecond in a 10⁴ bed; a pressure solve is hundreds of loops of tens
+//! of microseconds. Handed to rayon one by one, each waited for a sleeping worker to wake:
+//! measured on the 2-core VM, the second pair segment started 60–230 µs after the first, per
+//! part and sub-step, which held two threads to 1.2–1.5× one.
+//!
+//! A [`Team`] instead keeps the pool's other workers spinning on a shared ticket, and each part
+//! is split into pieces that any member claims (the caller too), so a piece starts within a
+//! spin of being posted. While spinning, the members also take the pool's other work (rayon's
+//! parallel iterators, [`crate::linear::par_update`]) as soon as it is queued: [`keep_awake`]
+//! holds a team for a whole run for that alone.
 //!
 //! Which thread runs which piece does not matter for the results: the pieces write disjoint
 //! memory and their sums are combined in piece order, so the bits are those of one thread.
@@ -19,6 +23,7 @@ use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 /// A part of a sub-step, run piece by piece: `piece(i)` for every i below the piece count.
 pub type Part<'a> = dyn Fn(usize) + Sync + 'a;
@@ -37,10 +42,18 @@ struct Posted {
 // part, which `Team::run` outlives (see `Posted`); the part itself is `Sync`.
 unsafe impl Send for Posted {}
 
-/// Iterations of the members' spin between two looks for other rayon work (a list build run
-/// with rayon's parallel iterators meanwhile is helped by the spinning members) and, finding
-/// none, a yield of the core to the system.
-const SPINS_PER_YIELD: u32 = 64;
+/// Iterations of a member's spin between two looks for the pool's other work (rayon's
+/// parallel iterators queued by the caller) and, finding none, a yield of the core to the
+/// system.
+const SPINS_PER_LOOK: u32 = 64;
+
+/// How long a member without work spins before it naps: far longer than the gaps between two
+/// loops of a step (microseconds), far shorter than a run's serial stretches (writing frames).
+const SPIN_BEFORE_NAPS: Duration = Duration::from_millis(2);
+
+/// A napping member's sleep between two looks at the pool's work (a part posted to the team
+/// wakes it at once).
+const NAP: Duration = Duration::from_micros(200);
 
 /// What a team holds before its first part.
 fn no_part(_: usize) {}
@@ -57,6 +70,8 @@ pub struct Team {
     stop: AtomicBool,
     /// The caller's count of parts posted.
     parts: AtomicU64,
+    /// The members helping (woken when a part is posted).
+    members: Mutex<Vec<std::thread::Thread>>,
 }
 
 impl Team {
@@ -68,6 +83,7 @@ impl Team {
             panic: Mutex::new(None),
             stop: AtomicBool::new(false),
             parts: AtomicU64::new(0),
+            members: Mutex::new(Vec::new()),
         }
     }
 
@@ -85,6 +101,9 @@ impl Team {
         self.finished.store(0, Ordering::Relaxed);
         // publishes the part (Release: a member that sees the ticket sees the posted part)
         self.ticket.store(number << 32, Ordering::Release);
+        for member in self.members.lock().unwrap_or_else(|e| e.into_inner()).iter() {
+            member.unpark();
+        }
         self.claim_pieces(number, pieces, part);
         while self.finished.load(Ordering::Acquire) < pieces {
             std::hint::spin_loop();
@@ -115,10 +134,13 @@ impl Team {
         }
     }
 
-    /// A member's loop: spin on the ticket, help with the posted part, until stopped.
+    /// A member's loop: spin on the ticket, help with the posted part and the pool's other
+    /// work, until stopped; idle for longer than [`SPIN_BEFORE_NAPS`], it naps between looks.
     fn help(&self) {
+        self.members.lock().unwrap_or_else(|e| e.into_inner()).push(std::thread::current());
         let mut done_with = 0;
         let mut spins = 0u32;
+        let mut idle_since = Instant::now();
         while !self.stop.load(Ordering::Acquire) {
             let ticket = self.ticket.load(Ordering::Acquire);
             let number = ticket >> 32;
@@ -130,20 +152,26 @@ impl Team {
                     let part = unsafe { &*posted.run };
                     self.claim_pieces(number, posted.pieces, part);
                     done_with = number;
+                    idle_since = Instant::now();
                 }
                 continue;
             }
             spins += 1;
-            if spins == SPINS_PER_YIELD {
-                spins = 0;
-                // other rayon work of the step (a neighbour-list build) is helped meanwhile;
-                // with none, the core is offered to the system (a pool with more threads than
-                // cores must not starve the thread that posts the parts)
-                if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::thread::yield_now();
-                }
-            } else {
+            if spins < SPINS_PER_LOOK {
                 std::hint::spin_loop();
+                continue;
+            }
+            spins = 0;
+            // the pool's other work (a neighbour-list build, the fluid's loops) is taken as it
+            // comes; with none, the core is offered to the system (a pool with more threads than
+            // cores must not starve the thread that posts the parts)
+            if rayon::yield_now() == Some(rayon::Yield::Executed) {
+                idle_since = Instant::now();
+            } else if idle_since.elapsed() > SPIN_BEFORE_NAPS {
+                // a serial stretch of the run (output): `run` wakes the member when it posts
+                std::thread::park_timeout(NAP);
+            } else {
+                std::thread::yield_now();
             }
         }
     }
@@ -203,6 +231,12 @@ impl<'a, T> Shared<'a, T> {
     }
 }
 
+/// Runs `f` with the current pool's other workers spinning (and taking the pool's work as
+/// soon as it is queued) until it returns: [`with_team`] without posting parts.
+pub fn keep_awake<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    with_team(|_| f())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -236,6 +270,33 @@ mod tests {
                 assert_eq!(*order.lock().unwrap(), vec![0]);
             }
         }
+    }
+
+    /// Members that napped through a serial stretch longer than [`SPIN_BEFORE_NAPS`] still run
+    /// the next part, and the pool's own parallel loops run inside [`keep_awake`].
+    #[test]
+    fn napping_members_and_the_pools_loops() {
+        use rayon::prelude::*;
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let counts: Vec<AtomicUsize> = (0..16).map(|_| AtomicUsize::new(0)).collect();
+        let sum = pool.install(|| {
+            keep_awake(|| {
+                let mut sum = 0u64;
+                for _ in 0..3 {
+                    std::thread::sleep(SPIN_BEFORE_NAPS * 3);
+                    sum += (0..100_000u64).into_par_iter().sum::<u64>();
+                    with_team(|team| {
+                        std::thread::sleep(SPIN_BEFORE_NAPS * 3);
+                        team.run(16, &|i| {
+                            counts[i].fetch_add(1, Ordering::Relaxed);
+                        });
+                    });
+                }
+                sum
+            })
+        });
+        assert_eq!(sum, 3 * 99_999 * 100_000 / 2);
+        assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 3));
     }
 
     /// A panicking piece reaches the caller of `run` instead of hanging the team.
