@@ -135,9 +135,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         start_up: (0, 0.0),
     };
     // the time loop runs on one of the pool's workers: its parallel loops then start there,
-    // not by handing each one over from this thread and sleeping until it is done (a DEM
-    // sub-step has three such loops; the hand-offs cost ~3 % of a 1-thread settling bed); the
-    // other workers spin meanwhile, taking each loop's work as it is queued
+    // not by handing each one over from this thread and sleeping until it is done (the
+    // hand-offs cost ~3 % of a 1-thread settling bed); the other workers spin meanwhile,
+    // taking each loop's work as it is queued (`fast/src/team.rs`)
     let result = rayon::scope(|_| spillage_fast::team::keep_awake(|| run.time_loop(solver.as_mut(), &mut progress)));
     progress.finish();
     let wall = started.elapsed().as_secs_f64();

@@ -22,7 +22,7 @@ use std::marker::PhantomData;
 use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 /// A part of a sub-step, run piece by piece: `piece(i)` for every i below the piece count.
@@ -72,6 +72,12 @@ pub struct Team {
     parts: AtomicU64,
     /// The members helping (woken when a part is posted).
     members: Mutex<Vec<std::thread::Thread>>,
+    /// A part is being run ([`Team::run`] is not re-entrant).
+    posting: AtomicBool,
+    /// The thread that owns the team (runs `with_team`'s closure): it never helps its own team
+    /// (were it to pick a helper job from its own queue while the closure waits, it would spin
+    /// until a stop only the closure can give).
+    owner: OnceLock<std::thread::ThreadId>,
 }
 
 impl Team {
@@ -84,15 +90,19 @@ impl Team {
             stop: AtomicBool::new(false),
             parts: AtomicU64::new(0),
             members: Mutex::new(Vec::new()),
+            posting: AtomicBool::new(false),
+            owner: OnceLock::new(),
         }
     }
 
     /// Runs `part(i)` for every piece `i < pieces`, spread over the members, and returns once
-    /// all have finished. Called by the team's owner only (the closure of [`with_team`]).
+    /// all have finished. One part at a time: posting another while one runs (from a piece, or
+    /// from another thread) panics.
     pub fn run(&self, pieces: usize, part: &Part) {
         if pieces == 0 {
             return;
         }
+        assert!(!self.posting.swap(true, Ordering::Acquire), "a team runs one part at a time");
         let number = self.parts.fetch_add(1, Ordering::Relaxed) + 1;
         assert!(number < 1 << 32 && pieces < 1 << 32, "a team posts fewer than 2³² parts of fewer than 2³² pieces");
         // SAFETY: only the lifetime is erased; see `Posted`.
@@ -104,17 +114,30 @@ impl Team {
         for member in self.members.lock().unwrap_or_else(|e| e.into_inner()).iter() {
             member.unpark();
         }
-        self.claim_pieces(number, pieces, part);
+        // SAFETY: `part` is borrowed for this whole call
+        unsafe { self.claim_pieces(number, pieces, run) };
+        let mut spins = 0u32;
         while self.finished.load(Ordering::Acquire) < pieces {
-            std::hint::spin_loop();
+            spins += 1;
+            // a member descheduled in the middle of a piece (more threads than cores) gets
+            // the core back
+            if spins.is_multiple_of(1024) {
+                std::thread::yield_now();
+            } else {
+                std::hint::spin_loop();
+            }
         }
+        self.posting.store(false, Ordering::Release);
         if let Some(payload) = self.panic.lock().unwrap_or_else(|e| e.into_inner()).take() {
             std::panic::resume_unwind(payload);
         }
     }
 
     /// Claims and runs pieces of part `number` until none is left (or another part is posted).
-    fn claim_pieces(&self, number: u64, pieces: usize, part: &Part) {
+    ///
+    /// # Safety
+    /// `part` is the part posted as `number` (or the caller's own, still borrowed).
+    unsafe fn claim_pieces(&self, number: u64, pieces: usize, part: *const Part<'static>) {
         let mut ticket = self.ticket.load(Ordering::Acquire);
         loop {
             let piece = (ticket & 0xffff_ffff) as usize;
@@ -123,6 +146,9 @@ impl Team {
             }
             match self.ticket.compare_exchange_weak(ticket, ticket + 1, Ordering::AcqRel, Ordering::Acquire) {
                 Ok(_) => {
+                    // SAFETY: a piece of part `number` is claimed, so `run(number)` is waiting
+                    // for it and the part it posted is alive
+                    let part = unsafe { &*part };
                     if let Err(payload) = catch_unwind(AssertUnwindSafe(|| part(piece))) {
                         *self.panic.lock().unwrap_or_else(|e| e.into_inner()) = Some(payload);
                     }
@@ -137,6 +163,9 @@ impl Team {
     /// A member's loop: spin on the ticket, help with the posted part and the pool's other
     /// work, until stopped; idle for longer than [`SPIN_BEFORE_NAPS`], it naps between looks.
     fn help(&self) {
+        if self.owner.get() == Some(&std::thread::current().id()) {
+            return;
+        }
         self.members.lock().unwrap_or_else(|e| e.into_inner()).push(std::thread::current());
         let mut done_with = 0;
         let mut spins = 0u32;
@@ -147,10 +176,9 @@ impl Team {
             if number != done_with {
                 let posted = *self.posted.lock().unwrap_or_else(|e| e.into_inner());
                 if posted.part == number {
-                    // SAFETY: a piece of this part is run only after claiming it, while the
-                    // part is posted (its ticket carries its number), and `run` waits for it.
-                    let part = unsafe { &*posted.run };
-                    self.claim_pieces(number, posted.pieces, part);
+                    // SAFETY: `posted.run` is part `number`'s, dereferenced only once a piece of
+                    // it is claimed (while `run` waits for that piece)
+                    unsafe { self.claim_pieces(number, posted.pieces, posted.run) };
                     done_with = number;
                     idle_since = Instant::now();
                 }
@@ -186,6 +214,8 @@ pub fn with_team<R: Send>(f: impl FnOnce(&Team) -> R + Send) -> R {
         return f(&team);
     }
     rayon::scope(|scope| {
+        // the closure runs here (on a worker of the pool, even when called from outside it)
+        let _ = team.owner.set(std::thread::current().id());
         for _ in 1..members {
             scope.spawn(|_| team.help());
         }
@@ -195,8 +225,9 @@ pub fn with_team<R: Send>(f: impl FnOnce(&Team) -> R + Send) -> R {
     })
 }
 
-/// A slice the pieces of a part share, each piece taking its own range of it.
-pub struct Shared<'a, T> {
+/// A slice the pieces of a part share, each piece taking its own range of it (as
+/// `par_chunks_mut` hands out chunks, but to pieces claimed by whichever member comes).
+pub struct DisjointSlices<'a, T> {
     start: *mut T,
     len: usize,
     slice: PhantomData<&'a mut [T]>,
@@ -204,9 +235,9 @@ pub struct Shared<'a, T> {
 
 // SAFETY: the pieces take disjoint ranges (the contract of `range`), as `par_chunks_mut` would
 // hand them out.
-unsafe impl<T: Send> Sync for Shared<'_, T> {}
+unsafe impl<T: Send> Sync for DisjointSlices<'_, T> {}
 
-impl<'a, T> Shared<'a, T> {
+impl<'a, T> DisjointSlices<'a, T> {
     pub fn new(slice: &'a mut [T]) -> Self {
         Self { start: slice.as_mut_ptr(), len: slice.len(), slice: PhantomData }
     }
@@ -255,7 +286,7 @@ mod tests {
                         let pieces = 1 + round % 97;
                         team.run(pieces, &|i| {
                             counts[i].fetch_add(1, Ordering::Relaxed);
-                            if threads == 1 && round == 0 {
+                            if threads == 1 && round == 40 {
                                 order.lock().unwrap().push(i);
                             }
                         });
@@ -267,7 +298,7 @@ mod tests {
                 })
             });
             if threads == 1 {
-                assert_eq!(*order.lock().unwrap(), vec![0]);
+                assert_eq!(*order.lock().unwrap(), (0..41).collect::<Vec<_>>());
             }
         }
     }
@@ -297,6 +328,16 @@ mod tests {
         });
         assert_eq!(sum, 3 * 99_999 * 100_000 / 2);
         assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 3));
+    }
+
+    /// A part posted from inside a piece is refused (it would reset the count the outer part
+    /// waits on).
+    #[test]
+    fn one_part_at_a_time() {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let caught = pool.install(|| catch_unwind(AssertUnwindSafe(|| with_team(|team| team.run(2, &|_| team.run(1, &|_| {}))))));
+        let payload = caught.expect_err("the nested part is refused");
+        assert_eq!(payload.downcast_ref::<&str>(), Some(&"a team runs one part at a time"));
     }
 
     /// A panicking piece reaches the caller of `run` instead of hanging the team.

@@ -13,7 +13,7 @@ use spillage_model::particles::settings::Motion;
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::{ParticleArrays, ParticleProperties};
-use crate::team::{Shared, Team};
+use crate::team::{DisjointSlices, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
 /// order, then the blocks in order, so the sums do not depend on the number of threads. Each
@@ -107,7 +107,8 @@ pub fn blocks_of(n: usize) -> usize {
 /// One pass of length `dt` sub-steps over every particle, by the `team`; `fluid` is indexed
 /// by the state's order (empty: no particle sees a fluid), `origins` are the neighbour list's
 /// build positions. `before(b)` makes what block `b` (of [`BLOCK`] particles) does to a particle
-/// before moving it; it is called once per block. Unless the pass is the step's last
+/// before moving it; it is called exactly once per block and pass, so it may hand block `b`
+/// the block's own ranges of per-particle state ([`DisjointSlices`]). Unless the pass is the step's last
 /// ([`Pass::Second`], whose contact forces the state keeps), it leaves the contact forces,
 /// torques and counts at zero, ready for the next sub-step's sums.
 #[allow(clippy::too_many_arguments)]
@@ -129,9 +130,9 @@ pub fn advance_particles<B: BeforeMove>(
     let h = 0.5 * dt;
     let kernel = PassKernel { pass, h, dt, motion: forces.motion, properties, inertia, origins: (origins.len() == n).then_some(origins) };
     sums.blocks.resize(blocks_of(n), BlockSums::default());
-    let moving = (Shared::new(velocity), Shared::new(spin), Shared::new(position));
-    let contact = (Shared::new(force), Shared::new(torque), Shared::new(contacts));
-    let (loads, block_sums) = (Shared::new(&mut sums.load), Shared::new(&mut sums.blocks));
+    let moving = (DisjointSlices::new(velocity), DisjointSlices::new(spin), DisjointSlices::new(position));
+    let contact = (DisjointSlices::new(force), DisjointSlices::new(torque), DisjointSlices::new(contacts));
+    let (loads, block_sums) = (DisjointSlices::new(&mut sums.load), DisjointSlices::new(&mut sums.blocks));
     // block b's share of the particles' state: the blocks' ranges are disjoint, and each block
     // is one piece of the part, run once
     let block = |b: usize| {
@@ -140,7 +141,7 @@ pub fn advance_particles<B: BeforeMove>(
         unsafe {
             let moving = (moving.0.range(range.clone()), moving.1.range(range.clone()), moving.2.range(range.clone()));
             let contact = (contact.0.range(range.clone()), contact.1.range(range.clone()), contact.2.range(range.clone()));
-            let load = if loads.is_empty() { &mut [][..] } else { loads.range(range.clone()) };
+            let load = loads.range(range.clone());
             (range.start, moving, contact, load, &mut block_sums.range(b..b + 1)[0])
         }
     };

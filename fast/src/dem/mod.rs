@@ -10,8 +10,9 @@
 //!   sum in the reference's order ([`pair_forces`]);
 //! * wall contacts per particle against each wall's bounding-volume hierarchy in its body
 //!   frame, the near triangles kept while the particle stays within the skin
-//!   ([`wall_forces`]);
-//! * the sub-step halves per particle in parallel ([`integrate`]).
+//!   ([`wall_forces`]), evaluated by the pass that then moves the particle;
+//! * the sub-step halves per particle in parallel ([`integrate`]);
+//! * the parts of a sub-step run by a [`Team`] of threads kept awake for the step.
 //!
 //! Every sum whose order could depend on the threads is taken in a fixed order, so a run gives
 //! the same bits on any number of threads.
@@ -36,7 +37,7 @@ use spillage_model::state::State;
 use spillage_model::step::{ParticleLoad, ParticlePhase, StepContext};
 use spillage_model::walls::state::{WallFrame, WallState};
 
-use crate::team::{with_team, Shared, Team};
+use crate::team::{with_team, DisjointSlices, Team};
 use arrays::ParticleArrays;
 use integrate::{advance_particles, NothingToAdd, Pass, PassSums, StepSums, BLOCK};
 use neighbour_list::{History, NeighbourList};
@@ -108,7 +109,7 @@ struct WallCandidates {
 
 /// A sub-step's fault: the sub-step (from 0), its end time and what happened.
 struct SubstepFault {
-    k: u64,
+    substep: u64,
     time: f64,
     fault: Fault,
 }
@@ -278,7 +279,7 @@ impl FastDem {
             self.budget.walls += dt_s * sub.wall_power;
             self.budget.placed += sub.placed;
             if let Some(fault) = fault {
-                return Err(SubstepFault { k, time: end_time, fault });
+                return Err(SubstepFault { substep: k, time: end_time, fault });
             }
             pass = sums;
             self.budget.external += pass.work_second;
@@ -294,7 +295,7 @@ impl FastDem {
     /// positions (§7.8), then one pass over the particles (`next`: [`Pass::Between`] or
     /// [`Pass::Second`]) that adds each particle's wall contacts just before it moves it.
     /// Returns the contacts' totals (the pairs' only when `totals_needed`, the walls' always),
-    /// the first fault, if any, and the pass's sums.
+    /// the first fault, if any, and the pass's sums; a pair fault returns before the pass.
     #[allow(clippy::too_many_arguments)]
     fn substep(
         &mut self,
@@ -321,8 +322,11 @@ impl FastDem {
         let mut counts = std::mem::take(&mut arrays.contacts);
         let pair_fault = evaluate_and_add(list, arrays, &pair_context, &mut forces, &mut torques, &mut counts, team);
         (arrays.force, arrays.torque, arrays.contacts) = (forces, torques, counts);
-        // found at the positions the pairs were evaluated at, before the pass moves them
-        let mut fault = if pair_fault { first_fault(&self.list, &self.arrays, self.fed_from) } else { None };
+        // found at the positions the pairs were evaluated at, before a pass moves them
+        if let Some(fault) = pair_fault.then(|| first_fault(&self.list, &self.arrays, self.fed_from)).flatten() {
+            let unmoved = PassSums { work_second: 0.0, work_first: 0.0, max_displacement_sq: f64::NAN };
+            return (ContactTotals::default(), Some(fault), unmoved);
+        }
         self.place_frames(walls);
         let wall_context = WallContext {
             materials: &self.setup.materials,
@@ -339,7 +343,8 @@ impl FastDem {
             dt,
             fed_from: self.fed_from,
         };
-        let n_walls = walls.walls.len();
+        // the walls' meshes, as the pass indexes each particle's near triangles
+        let n_walls = wall_context.meshes.len();
         let pass = if n_walls > 0 {
             let epoch = wall_context.epoch;
             let candidates = &mut self.candidates;
@@ -351,11 +356,11 @@ impl FastDem {
             let marks = CandidateMarks { pick, mark, built_at: self.list.built_at() };
             let context = &wall_context;
             let n = self.arrays.len();
-            let far = Shared::new(&mut self.far);
-            let sides = Shared::new(&mut self.wall_sides);
-            let at_wall = Shared::new(&mut self.at_wall);
-            let may_touch = Shared::new(&mut candidates.may_touch);
-            let near = Shared::new(&mut self.near);
+            let far = DisjointSlices::new(&mut self.far);
+            let sides = DisjointSlices::new(&mut self.wall_sides);
+            let at_wall = DisjointSlices::new(&mut self.at_wall);
+            let may_touch = DisjointSlices::new(&mut candidates.may_touch);
+            let near = DisjointSlices::new(&mut self.near);
             // block b's share of the particles' wall state (the pass makes each block's once)
             let before = |b: usize| {
                 let range = b * BLOCK..n.min((b + 1) * BLOCK);
@@ -410,9 +415,7 @@ impl FastDem {
             }
             impacts.extend(side.impacts.iter().cloned());
         }
-        if fault.is_none() {
-            fault = wall_fault.map(|(_, f)| f);
-        }
+        let fault = wall_fault.map(|(_, f)| f);
         // the reference logs a sub-step's impacts particle by particle in id order
         impacts[first_impact..].sort_by_key(|i| i.particle);
         (totals, fault, pass)
@@ -459,11 +462,13 @@ impl ParticlePhase for FastDem {
         let substeps = with_team(|team| self.substeps(ctx, walls, fluid, n, feeding, &mut impacts, team));
         let totals = match substeps {
             Ok(totals) => totals,
-            Err(SubstepFault { k, time, fault }) => {
-                // the pass has moved the particles on: the driver rewinds the step
+            Err(SubstepFault { substep, time, fault }) => {
+                // a pair fault leaves the particles where its sub-step evaluated the contacts; a
+                // wall fault, found by the pass that moves them, where that pass left them
                 self.arrays.store(&mut particles.particles);
                 particles.impacts = impacts;
-                return Err(SolverError::Diverged { step: ctx.step, time, what: format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), k + 1) });
+                let what = format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), substep + 1);
+                return Err(SolverError::Diverged { step: ctx.step, time, what });
             }
         };
         self.arrays.store(&mut particles.particles);

@@ -16,7 +16,7 @@ use spillage_model::particles::ContactRecord;
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
 use super::pair_lanes::{four_pairs, FourPairs, Lane};
-use crate::team::{Shared, Team};
+use crate::team::{DisjointSlices, Team};
 
 /// What the pair evaluation reads besides the particles.
 pub struct PairContext<'a> {
@@ -60,7 +60,8 @@ pub fn evaluate_and_add(
     let n_segments = pairs.len().div_ceil(chunk);
     set_aside.resize_with(n_segments, Vec::new);
     let sums = SharedSums::new(force, torque, count);
-    let (touch, records, energy, kept, aside) = (Shared::new(touch), Shared::new(records), Shared::new(energy), Shared::new(forces), Shared::new(set_aside));
+    let (touch, records, energy, kept, aside) =
+        (DisjointSlices::new(touch), DisjointSlices::new(records), DisjointSlices::new(energy), DisjointSlices::new(forces), DisjointSlices::new(set_aside));
     let fault = AtomicBool::new(false);
     // each segment is one piece of the part, run once
     team.run(n_segments, &|s| {
