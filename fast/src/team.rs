@@ -242,14 +242,6 @@ impl<'a, T> DisjointSlices<'a, T> {
         Self { start: slice.as_mut_ptr(), len: slice.len(), slice: PhantomData }
     }
 
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
     /// The elements in `range`.
     ///
     /// # Safety

@@ -100,7 +100,7 @@ impl BeforeMove for NothingToAdd {
 }
 
 /// The number of blocks a pass cuts `n` particles into (each takes one [`BeforeMove`]).
-pub fn blocks_of(n: usize) -> usize {
+fn blocks_of(n: usize) -> usize {
     n.div_ceil(BLOCK)
 }
 
