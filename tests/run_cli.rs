@@ -419,6 +419,36 @@ fn check_names_the_fluid_forces_on_the_particles() {
     }
 }
 
+/// `spillage check` says when a head batch placed after the water has turned comes in, warns
+/// when the run ends before it, and names the key of a negative number of revolutions.
+#[test]
+fn check_says_when_a_later_batch_is_placed() {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml")).unwrap();
+    let dir = scratch("later-batch");
+    let with = |after: &str, revolutions: &str, name: &str| {
+        let edited = text.replacen("z = [-0.30, -0.03]\n", &format!("z = [-0.30, -0.03]\nafter_revolutions = {after}\n"), 1).replacen(
+            "revolutions = 1\n",
+            &format!("revolutions = {revolutions}\n"),
+            1,
+        );
+        assert_ne!(edited, text);
+        let case = dir.join(name);
+        std::fs::write(&case, edited).unwrap();
+        spillage(&["check", case.to_str().unwrap()])
+    };
+    let out = with("1.0", "2", "later.toml");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("batch        particles.groups.0 placed after 1 revolution of water alone, at t = 1.0000e0 s"), "{stdout}");
+    assert!(!stdout.contains("the run ends first"), "{stdout}");
+    let out = with("1.0", "1", "too_late.toml");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("; the run ends first, at t = 1.0000e0 s"), "{}", String::from_utf8_lossy(&out.stdout));
+    let out = with("-0.5", "2", "negative.toml");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("particles.groups.0.after_revolutions") && stderr.contains("-0.5"), "{stderr}");
+}
+
 #[test]
 fn an_unconverged_linear_solve_stops_the_run_with_a_clear_error_and_a_summary() {
     let dir = scratch("unconverged");

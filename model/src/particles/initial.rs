@@ -25,13 +25,19 @@ pub fn initial_state_by_group(case: &Case) -> Result<(ParticleState, Vec<usize>)
         feed_random: section.feed.iter().map(|f| SplitMix64::new(f.seed)).collect(),
         ..Default::default()
     };
+    // batches placed later are checked here, placed by the step driver
+    let later = super::batch::later_batches(case)?;
     for (g, group) in section.groups.iter().enumerate() {
         let key = format!("particles.groups.{g}");
+        if later.iter().any(|b| b.group == g) {
+            ends.push(state.particles.len());
+            continue;
+        }
         if let GroupSection::HeadLattice { .. } = group {
             let head =
                 case.cutter_head.as_ref().ok_or_else(|| FieldError::new(format!("{key}.placement"), "\"head_lattice\"", "a case with a [cutter_head]"))?;
             let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity());
-            add_head_lattice(section, group, &key, &crate::cutter_head::CutterHead::new(head), omega, &mut state)?;
+            add_head_lattice(section, group, &key, &crate::cutter_head::CutterHead::new(head), omega, HeadPose::AT_START, &mut state)?;
         } else {
             add_group(section, group, &key, &mut state)?;
         }
@@ -93,17 +99,34 @@ pub fn place_without_overlap(
     None
 }
 
-/// The sites of a `head_lattice` group that lie inside the hull, in the sector and clear of the
-/// head's solids, in z, y, x order.
-fn add_head_lattice(
+/// Where a head's blades stand when a `head_lattice` batch is placed, and what else is there.
+#[derive(Clone, Copy, Debug)]
+pub struct HeadPose {
+    /// The rotor angle [rad] (0 at t = 0).
+    pub angle: f64,
+    /// Whether sites overlapping particles already in the state are left out (a batch placed
+    /// into a running head); at the start an overlap between groups is the case's error, which
+    /// `spillage check` names.
+    pub skip_occupied: bool,
+}
+
+impl HeadPose {
+    pub const AT_START: HeadPose = HeadPose { angle: 0.0, skip_occupied: false };
+}
+
+/// The sites of a `head_lattice` group that lie inside the hull, in the sector (lab frame) and
+/// clear of the head's solids with the blades at `pose.angle`, in z, y, x order; returns how
+/// many were placed.
+pub fn add_head_lattice(
     section: &ParticlesSection,
     group: &GroupSection,
     key: &str,
     head: &crate::cutter_head::CutterHead,
     omega: f64,
+    pose: HeadPose,
     state: &mut ParticleState,
-) -> Result<(), FieldError> {
-    let GroupSection::HeadLattice { material, diameter, spacing, sector, z, co_rotating, seed } = group else { unreachable!("called for head lattices") };
+) -> Result<usize, FieldError> {
+    let GroupSection::HeadLattice { material, diameter, spacing, sector, z, co_rotating, seed, .. } = group else { unreachable!("called for head lattices") };
     let material = section.material_index(material).ok_or_else(|| FieldError::new(format!("{key}.material"), material, "a known material"))?;
     let mut random = SplitMix64::new(*seed);
     let a = 0.5 * diameter.largest();
@@ -120,7 +143,8 @@ fn add_head_lattice(
                 let (r, theta) = (p.x.hypot(p.y), p.y.atan2(p.x));
                 let in_sector = (theta - from).rem_euclid(std::f64::consts::TAU) <= width;
                 let inside = head.inside_hull(r + a, p.z) && head.inside_hull(r, p.z - a) && p.z + a <= 0.0;
-                if in_sector && inside && head.sphere_is_clear(r, theta, p.z, a) {
+                let free = || !pose.skip_occupied || state.particles.iter().all(|q| (q.position - p).norm() >= a + q.radius());
+                if in_sector && inside && head.sphere_is_clear(r, theta - pose.angle, p.z, a) && free() {
                     let d = draw_diameter(diameter, &mut random);
                     let v = if *co_rotating { Vec3::new(-omega * p.y, omega * p.x, 0.0) } else { Vec3::zeros() };
                     let particle = new_particle(section, state, material, d, p, v);
@@ -132,7 +156,7 @@ fn add_head_lattice(
     if state.particles.len() == before {
         return Err(FieldError::new(format!("{key}.sector"), format!("{sector:?} with z = {z:?}"), "a region of the head with room for at least one particle"));
     }
-    Ok(())
+    Ok(state.particles.len() - before)
 }
 
 fn add_group(section: &ParticlesSection, group: &GroupSection, key: &str, state: &mut ParticleState) -> Result<(), FieldError> {

@@ -1,6 +1,7 @@
 //! Particle definitions shared by both solvers: the `[particles]` section, the particle state
 //! and the initial-state builder.
 
+pub mod batch;
 pub mod bookkeeping;
 pub mod dem_setup;
 pub mod first_touch;

@@ -325,6 +325,10 @@ pub enum GroupSection {
     /// head's solids: the thesis' initial batch between the blades on the cutting side
     /// (spillage-and-flow-verification.md §5.4, Eq. 8.5). `co_rotating` starts the particles
     /// with the rotor's solid-body velocity ω × r.
+    ///
+    /// `after_revolutions` (default 0: at the start) places the batch later, once the rotor has
+    /// turned that many revolutions with water alone, as the thesis did (§5.4, initialisation:
+    /// the flow first turned one rotation without particles): see [`super::batch`].
     HeadLattice {
         material: String,
         diameter: Diameter,
@@ -335,6 +339,8 @@ pub enum GroupSection {
         co_rotating: bool,
         #[serde(default)]
         seed: u64,
+        #[serde(default)]
+        after_revolutions: f64,
     },
     /// `count` particles at random non-overlapping positions inside a box.
     Random {
@@ -386,7 +392,7 @@ impl GroupSection {
                 lattice_spacing(key, *spacing, diameter)?;
                 finite_vector(&format!("{key}.velocity"), *velocity)
             }
-            GroupSection::HeadLattice { diameter, spacing, sector, z, .. } => {
+            GroupSection::HeadLattice { diameter, spacing, sector, z, after_revolutions, .. } => {
                 diameter.validate(&format!("{key}.diameter"))?;
                 lattice_spacing(key, *spacing, diameter)?;
                 if !(sector.iter().all(|a| a.is_finite()) && sector[1] > sector[0] && sector[1] - sector[0] <= 360.0) {
@@ -394,6 +400,9 @@ impl GroupSection {
                 }
                 if !(z.iter().all(|a| a.is_finite()) && z[1] > z[0]) {
                     return Err(FieldError::new(format!("{key}.z"), format!("{z:?}"), "[bottom, top] in m with bottom < top"));
+                }
+                if !(after_revolutions.is_finite() && *after_revolutions >= 0.0) {
+                    return Err(FieldError::new(format!("{key}.after_revolutions"), after_revolutions, "a number of revolutions ≥ 0 (0: placed at the start)"));
                 }
                 Ok(())
             }

@@ -44,6 +44,7 @@ use crate::fluid::frozen_rotor::StartUp;
 use crate::fluid::sampling::sample_containing_cell;
 use crate::fluid::settings::TimeScheme;
 use crate::mesh::{Mesh, Vec3};
+use crate::particles::batch::{self, LaterBatch};
 use crate::particles::bookkeeping;
 use crate::particles::settings::ParticlesSection;
 use crate::solver::{CouplingOutput, Solver, SolverError, StepReport};
@@ -90,6 +91,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     failed_in_fluid: bool,
     /// A frozen-rotor start-up (`[fluid] initial`, [`crate::fluid::frozen_rotor`]).
     start_up: Option<StartUp>,
+    /// Head batches placed once the water has turned ([`batch`]).
+    later_batches: Vec<LaterBatch>,
     label: &'static str,
 }
 
@@ -199,6 +202,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             wear_in_case: case.wear.is_some(),
             failed_in_fluid: false,
             start_up,
+            later_batches: batch::later_batches(case).map_err(|e| unsupported(format!("key `{}` = {}: expected {}", e.key, e.value, e.allowed)))?,
             label,
         };
         run.map_initial_fraction();
@@ -218,6 +222,44 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             map.fluid_fraction(&cells, &mut fluid_state.alpha);
             fluid_state.alpha_old.clone_from(&fluid_state.alpha);
             fluid_state.alpha_old_old.clone_from(&fluid_state.alpha);
+        }
+    }
+
+    /// Places the head batches due in the step of `ctx` ([`batch`]), with the blades where they
+    /// stand at its start.
+    fn place_due_batches(&mut self, ctx: &StepContext) -> Result<(), SolverError> {
+        let (Some((head, _)), Some(rotor), Some(section), Some(particles)) = (&self.head, &self.rotor, &self.particle_section, self.state.particles.as_mut())
+        else {
+            return Ok(());
+        };
+        let mut firsts = Vec::new();
+        for b in self.later_batches.iter().filter(|b| b.is_due(ctx.time, ctx.time_end())) {
+            firsts.push(particles.particles.len());
+            batch::place(section, rotor.omega, head, b, self.state.rotor_angle, particles)
+                .map_err(|e| unsupported(format!("placing the batch at t = {:e} s: key `{}` = {}: expected {}", ctx.time, e.key, e.value, e.allowed)))?;
+        }
+        for first in firsts {
+            self.count_batch_as_present(first);
+        }
+        Ok(())
+    }
+
+    /// Counts the batch just placed (the state's particles from `first` on) as present at the
+    /// fluid's earlier time levels too, as a batch placed at the start is
+    /// ([`Self::map_initial_fraction`]). Otherwise ∂α_c/∂t would read the rock's whole volume
+    /// as appearing within one step, and the pressure equation would drive that volume of water
+    /// out of the batch's cells as a burst of flow: the rock is placed, it does not displace the
+    /// water in one step [R].
+    fn count_batch_as_present(&mut self, first: usize) {
+        let (Some(map), Some(f), Some(fluid), Some(p)) = (&self.mapping, &self.fluid, self.state.fluid.as_mut(), &self.state.particles) else { return };
+        let batch = &p.particles[first..];
+        let volumes = ParticleLoad { volume: batch.iter().map(|p| p.volume()).collect(), ..ParticleLoad::zeros(batch.len()) };
+        let mut cells = CellLoad::default();
+        map.deposit(f.mesh(), batch, &volumes, &mut cells);
+        for level in [&mut fluid.alpha, &mut fluid.alpha_old, &mut fluid.alpha_old_old] {
+            for (a, added) in level.iter_mut().zip(&cells.particle_fraction) {
+                *a = (*a - added).max(map.min_fluid_fraction);
+            }
         }
     }
 
@@ -306,7 +348,8 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             fluid.place_rotor(ctx.rotor.as_ref())?;
         }
 
-        // 2–5. particles: feed, sample, DEM sub-steps, exits
+        // 2–5. particles: batches, feed, sample, DEM sub-steps, exits
+        self.place_due_batches(&ctx)?;
         let mut load: Option<ParticleLoad> = None;
         if let Some(phase) = self.particles.as_mut() {
             let section = self.particle_section.as_ref().expect("a particle phase has a [particles] section");
