@@ -314,13 +314,11 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
             spillage_model::particles::placement::CHECKED_MAX
         )),
     }
-    // validated with the placement above
-    for batch in spillage_model::particles::batch::later_batches(&case).unwrap_or_default() {
-        let revolutions = match &case.particles.as_ref().map(|p| &p.groups[batch.group]) {
-            Some(spillage_model::particles::settings::GroupSection::HeadLattice { after_revolutions, .. }) => *after_revolutions,
-            _ => f64::NAN,
-        };
-        let end = case.time.end_time.filter(|&end| end <= batch.time).map_or(String::new(), |end| format!("; the run ends first, at t = {end:.4e} s"));
+    let later = spillage_model::particles::batch::later_batches(&case).map_err(|field| Case::located(&String::from_utf8_lossy(bytes), path, field))?;
+    for batch in later {
+        let revolutions = batch.revolutions;
+        let end = case.time.end_time.or(case.time.dt.zip(case.time.steps).map(|(dt, n)| dt * n as f64));
+        let end = end.filter(|&end| end <= batch.time).map_or(String::new(), |end| format!("; the run ends first, at t = {end:.4e} s"));
         push(format!(
             "batch        particles.groups.{} placed after {revolutions} revolution{} of water alone, at t = {:.4e} s (spillage-and-flow-verification.md §5.4){end}",
             batch.group,

@@ -296,7 +296,7 @@ fn a_head_run_in_a_current_restarts_bit_for_bit() {
     restarts_bit_for_bit(&with_current(coarse_head(true, 12), CURRENT));
 }
 
-fn restarts_bit_for_bit(case: &Case) {
+fn restarts_bit_for_bit(case: &Case) -> State {
     let case = case.clone();
     let make = |c: &Case, s: &mut State| FastFluid::new(c, mesh(c), s).unwrap();
     let mut straight = coupled(&case, None, make);
@@ -307,8 +307,8 @@ fn restarts_bit_for_bit(case: &Case) {
     let head = case.cutter_head.as_ref().unwrap();
     let current = if head.has_current() { "current" } else { "still" };
     let mouth = if head.eccentric_mouth().is_some() { "eccentric" } else { "centred" };
-    let later = if spillage_model::particles::batch::later_batches(&case).unwrap().is_empty() { "batch" } else { "later-batch" };
-    let path = std::env::temp_dir().join(format!("spillage-head-restart-{}-{current}-{mouth}-{later}-{:?}.ckpt", std::process::id(), head.mesh.blades));
+    let later = if spillage_model::particles::batch::later_batches(&case).unwrap().is_empty() { "" } else { "-later-batch" };
+    let path = std::env::temp_dir().join(format!("spillage-head-restart-{}-{current}-{mouth}{later}-{:?}.ckpt", std::process::id(), head.mesh.blades));
     spillage_model::checkpoint::write(&path, &case, straight.state()).unwrap();
     let read = spillage_model::checkpoint::read(&path, &case).unwrap();
     std::fs::remove_file(&path).ok();
@@ -319,6 +319,7 @@ fn restarts_bit_for_bit(case: &Case) {
         assert_eq!(bits(&a), bits(&b), "step {step}: reports differ after the restart");
     }
     assert!(straight.state() == restarted.state(), "states differ after the restart");
+    straight.state().clone()
 }
 
 /// A continuous feed in a cutting region of the turning head, starting after two steps: the
@@ -600,5 +601,6 @@ fn a_later_batch_is_clear_of_the_turned_blades_and_the_particles_there() {
 /// bit-for-bit (the batch keeps no state of its own).
 #[test]
 fn a_head_run_restarted_before_its_batch_continues_bit_for_bit() {
-    restarts_bit_for_bit(&batch_after(coarse_head(true, 12), 0.017));
+    let end = restarts_bit_for_bit(&batch_after(coarse_head(true, 12), 0.017));
+    assert!(end.particles.as_ref().unwrap().counts.created > 50, "the batch was placed after the restart");
 }

@@ -2,7 +2,9 @@
 //! `placement = "head_lattice"` and `after_revolutions` > 0. The thesis did not insert its rock
 //! into still water: it solved the frozen-rotor flow, turned the head one rotation with water
 //! alone, and only then inserted the particles (spillage-and-flow-verification.md §5.4,
-//! initialisation, steps 1–3).
+//! initialisation, steps 1–3). Steps 2–3 are this; the frozen-rotor start-up of step 1 is for
+//! fluid-only cases ([`crate::fluid::frozen_rotor`]), so a case with particles starts its water
+//! from `[fluid] initial` (the shipped head: turning with the head inside it).
 //!
 //! The batch's time is t_b = after_revolutions · 2π/|ω|. It is placed at the start of the step
 //! whose interval [tⁿ, tⁿ⁺¹) holds t_b, on the lattice sites of its sector (lab frame) that are
@@ -22,7 +24,8 @@ use crate::cutter_head::CutterHead;
 pub struct LaterBatch {
     /// Its index in `[[particles.groups]]`.
     pub group: usize,
-    /// t_b [s].
+    /// `after_revolutions`, and t_b [s].
+    pub revolutions: f64,
     pub time: f64,
 }
 
@@ -48,9 +51,22 @@ pub fn later_batches(case: &Case) -> Result<Vec<LaterBatch>, FieldError> {
         if case.cutter_head.is_none() || omega == 0.0 {
             return Err(FieldError::new(key, after_revolutions, "0 unless the case has a [cutter_head] and a turning [rotor] to count revolutions"));
         }
-        batches.push(LaterBatch { group: g, time: after_revolutions * std::f64::consts::TAU / omega });
+        batches.push(LaterBatch { group: g, revolutions: *after_revolutions, time: after_revolutions * std::f64::consts::TAU / omega });
     }
     Ok(batches)
+}
+
+/// Places each of the case's later batches alone where the blades will stand at its time (for a
+/// constant ω), so a batch with no room is the case's error before the run, not one revolution
+/// into it.
+pub fn check_later_batches(case: &Case) -> Result<(), FieldError> {
+    let (Some(section), Some(head), Some(rotor)) = (&case.particles, &case.cutter_head, &case.rotor) else { return Ok(()) };
+    let head = CutterHead::new(head);
+    let omega = rotor.angular_velocity();
+    for batch in later_batches(case)? {
+        place(section, omega, &head, &batch, omega * batch.time, &mut ParticleState::default())?;
+    }
+    Ok(())
 }
 
 /// Places `batch` of `section` into `state` with the blades at rotor `angle` [rad] (a rotor of

@@ -27,6 +27,7 @@ pub fn initial_state_by_group(case: &Case) -> Result<(ParticleState, Vec<usize>)
     };
     // batches placed later are checked here, placed by the step driver
     let later = super::batch::later_batches(case)?;
+    super::batch::check_later_batches(case)?;
     for (g, group) in section.groups.iter().enumerate() {
         let key = format!("particles.groups.{g}");
         if later.iter().any(|b| b.group == g) {
@@ -111,6 +112,7 @@ pub struct HeadPose {
 }
 
 impl HeadPose {
+    /// A batch at t = 0: the blades at their reference angle, nothing else placed yet.
     pub const AT_START: HeadPose = HeadPose { angle: 0.0, skip_occupied: false };
 }
 
