@@ -56,15 +56,15 @@ pub fn later_batches(case: &Case) -> Result<Vec<LaterBatch>, FieldError> {
     Ok(batches)
 }
 
-/// Places each of the case's later batches alone where the blades will stand at its time (for a
-/// constant ω), so a batch with no room is the case's error before the run, not one revolution
-/// into it.
-pub fn check_later_batches(case: &Case) -> Result<(), FieldError> {
+/// Places each of the case's later `batches` ([`later_batches`]) alone where the blades will
+/// stand at its time (for a constant ω), so a batch with no room is the case's error before the
+/// run, not one revolution into it.
+pub fn check_later_batches(case: &Case, batches: &[LaterBatch]) -> Result<(), FieldError> {
     let (Some(section), Some(head), Some(rotor)) = (&case.particles, &case.cutter_head, &case.rotor) else { return Ok(()) };
     let head = CutterHead::new(head);
     let omega = rotor.angular_velocity();
-    for batch in later_batches(case)? {
-        place(section, omega, &head, &batch, omega * batch.time, &mut ParticleState::default())?;
+    for batch in batches {
+        place(section, omega, &head, batch, omega * batch.time, &mut ParticleState::default())?;
     }
     Ok(())
 }

@@ -27,7 +27,7 @@ pub fn initial_state_by_group(case: &Case) -> Result<(ParticleState, Vec<usize>)
     };
     // batches placed later are checked here, placed by the step driver
     let later = super::batch::later_batches(case)?;
-    super::batch::check_later_batches(case)?;
+    super::batch::check_later_batches(case, &later)?;
     for (g, group) in section.groups.iter().enumerate() {
         let key = format!("particles.groups.{g}");
         if later.iter().any(|b| b.group == g) {
