@@ -31,8 +31,10 @@ pub struct Pair {
 /// rest of its [`ContactRecord`] so the sub-steps stream 32 bytes per pair, not the record's
 /// hundred: the pair loop is bound by memory traffic (with a flag of its own for "touching"
 /// the entry took 40 bytes, a fifth more of a stream that, with the particles' arrays,
-/// overflows a core's 4 MB cache in the 10⁴ bed: README, "The fast particle path").
+/// overflows a core's 4 MB cache in the 10⁴ bed: README, "The fast particle path"). Laid out
+/// as four f64 (`repr(C)`), which the AVX kernel loads at once.
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct Touch {
     pub tangential_overlap: Vec3,
     /// α_η of the contact; NaN while the pair does not touch (has no contact record), which
@@ -77,14 +79,21 @@ pub struct PairEnergy {
 }
 
 /// The forces of a pair's last evaluation, apart from the rest so the per-particle sums read
-/// little memory: force on a (b's is `−force`), torques on a and b.
+/// little memory: force on a (b's is `−force`), torques on a and b. Laid out as nine f64, then
+/// the flag (`repr(C)`), which the AVX kernel stores three at a time.
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
 pub struct PairForce {
-    pub touching: bool,
     pub force: Vec3,
     pub torque_a: Vec3,
     pub torque_b: Vec3,
+    pub touching: bool,
 }
+
+const _: () = assert!(
+    std::mem::offset_of!(PairForce, torque_a) == 24 && std::mem::offset_of!(PairForce, torque_b) == 48 && std::mem::offset_of!(PairForce, touching) == 72
+);
+const _: () = assert!(std::mem::size_of::<Touch>() == 32 && std::mem::offset_of!(Touch, damping_ratio) == 24);
 
 /// Where a new list takes the histories of its pairs from.
 #[derive(Clone, Copy)]
@@ -124,8 +133,8 @@ pub struct NeighbourList {
     /// Where each cell key's entries begin in `sorted_cells` (and one past the last key), when
     /// the grid has few enough cells for a table; empty otherwise (binary search instead).
     key_start: Vec<u32>,
-    /// Found pairs (a, b, index in the previous list or the state's records) of the last build.
-    found: Vec<(u32, u32, Option<usize>)>,
+    /// Found pairs (id of a, id of b, a, b) of the last build.
+    found: Vec<(u64, u64, u32, u32)>,
 }
 
 /// The key the constants of a pair depend on ([`MaterialTable::constants`]): both materials,
@@ -191,22 +200,11 @@ impl NeighbourList {
         std::mem::swap(&mut self.touch, &mut self.previous_touch);
         std::mem::swap(&mut self.records, &mut self.previous_records);
         let (cells, skin) = (CellIndex { sorted: &self.sorted_cells, key_start: &self.key_start }, self.skin);
-        // the last list was built for these particles (`History::Previous`: same internal order)
-        let previous_pairs = &self.previous_pairs;
-        let previous_valid = self.built_at.len() == n;
-        let ids = |p: &Pair| (arrays.id[p.a as usize], arrays.id[p.b as usize]);
         self.found.clear();
+        // each pair as (id of a, id of b, a, b): a has the smaller id
         let pair = |k: usize, j: usize| {
             let (a, b) = if arrays.id[k] < arrays.id[j] { (k, j) } else { (j, k) };
-            let source = match history {
-                History::Records(records) => {
-                    let key = (arrays.id[a], Partner::Particle(arrays.id[b]));
-                    records.binary_search_by(|r| (r.particle, r.partner).cmp(&key)).ok()
-                }
-                History::Previous if previous_valid => previous_pairs.binary_search_by_key(&(arrays.id[a], arrays.id[b]), ids).ok(),
-                History::Previous => None,
-            };
-            (a as u32, b as u32, source)
+            (arrays.id[a], arrays.id[b], a as u32, b as u32)
         };
         // one buffer per job, not per particle (the order is the sort's below)
         let per_job = (0..n).into_par_iter().with_min_len(256).fold(Vec::new, |mut found, k| {
@@ -218,8 +216,13 @@ impl NeighbourList {
         // pairs in ascending (id of a, id of b): each particle meets its pairs in ascending
         // partner id, the reference's order of summation, so each pair's force can be added to
         // its particles as it is evaluated, segment by segment ([`Segments`])
-        self.found.par_sort_unstable_by_key(|&(a, b, _)| (arrays.id[a as usize], arrays.id[b as usize]));
+        self.found.par_sort_unstable();
 
+        // the histories are in the same order (the state's records by particle, then partner;
+        // the previous list, built for these particles, by ids), so each pair's is found by
+        // walking both lists once, not by a search per pair
+        let previous_valid = self.built_at.len() == n;
+        let mut sources = HistorySources { history, previous_pairs: &self.previous_pairs, previous_valid, next: 0 };
         // each pair's history, and its constants interned (a bed of one size has one entry)
         self.pairs.clear();
         self.touch.clear();
@@ -227,7 +230,8 @@ impl NeighbourList {
         self.constants.clear();
         let mut interned: HashMap<ConstantsKey, u32> = HashMap::new();
         let mut last: Option<(ConstantsKey, u32)> = None;
-        for &(a, b, source) in &self.found {
+        for &(id_a, id_b, a, b) in &self.found {
+            let source = sources.find(arrays, id_a, id_b);
             let (i, j) = (a as usize, b as usize);
             let key = (
                 arrays.material[i],
@@ -274,6 +278,41 @@ impl NeighbourList {
         self.segments.plan(&self.pairs, n, rayon::current_num_threads());
         self.built_at.clear();
         self.built_at.extend_from_slice(&arrays.position);
+    }
+}
+
+/// Where a new list's pairs find their histories, visited in ascending (id of a, id of b).
+struct HistorySources<'a> {
+    history: History<'a>,
+    previous_pairs: &'a [Pair],
+    /// The previous list was built for these particles.
+    previous_valid: bool,
+    /// The first entry not yet passed.
+    next: usize,
+}
+
+impl HistorySources<'_> {
+    /// The index of the pair (id_a, id_b)'s history in the state's records or the previous
+    /// list, if it has one; the pairs are asked for in ascending ids.
+    fn find(&mut self, arrays: &ParticleArrays, id_a: u64, id_b: u64) -> Option<usize> {
+        match self.history {
+            History::Records(records) => {
+                let key = (id_a, Partner::Particle(id_b));
+                while self.next < records.len() && (records[self.next].particle, records[self.next].partner) < key {
+                    self.next += 1;
+                }
+                records.get(self.next).filter(|r| (r.particle, r.partner) == key).map(|_| self.next)
+            }
+            History::Previous if self.previous_valid => {
+                let ids = |p: &Pair| (arrays.id[p.a as usize], arrays.id[p.b as usize]);
+                let pairs = self.previous_pairs;
+                while self.next < pairs.len() && ids(&pairs[self.next]) < (id_a, id_b) {
+                    self.next += 1;
+                }
+                pairs.get(self.next).filter(|p| ids(p) == (id_a, id_b)).map(|_| self.next)
+            }
+            History::Previous => None,
+        }
     }
 }
 

@@ -15,7 +15,7 @@ use spillage_model::particles::ContactRecord;
 
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
-use super::pair_lanes::{four_pairs, FourPairs, Lane};
+use super::pair_lanes::{FourPairs, Lane};
 use crate::team::{DisjointSlices, Team};
 
 /// What the pair evaluation reads besides the particles.
@@ -71,7 +71,8 @@ pub fn evaluate_and_add(
             (touch.range(range.clone()), records.range(range.clone()), energy.range(range.clone()), kept.range(range.clone()), &mut aside.range(s..s + 1)[0])
         };
         let segment = Segment { index: s as u32, first: &segments.first, sums: &sums, aside };
-        if segment.evaluate(&pairs[range], constants, touch, records, energy, kept, arrays, context) {
+        let entries = Entries { pairs: &pairs[range], constants, touch, records, energy, kept };
+        if segment.evaluate(entries, arrays, context) {
             fault.store(true, Ordering::Relaxed);
         }
     });
@@ -111,6 +112,31 @@ impl SharedSums {
         Self { force: force.as_mut_ptr(), torque: torque.as_mut_ptr(), count: count.as_mut_ptr(), len: force.len() }
     }
 
+    /// Particle `k`'s sums, to add a run of its pairs as side a to.
+    ///
+    /// # Safety
+    /// No other thread reads or writes particle `k`'s entries until the run is stored.
+    #[inline]
+    unsafe fn load_run(&self, k: usize) -> RunOfA {
+        assert!(k < self.len);
+        // SAFETY: k is in bounds; the caller holds particle k's entries alone.
+        unsafe { RunOfA { k, force: *self.force.add(k), torque: *self.torque.add(k), count: *self.count.add(k) } }
+    }
+
+    /// Stores a run's sums back (nothing for no run).
+    ///
+    /// # Safety
+    /// As [`Self::load_run`], for the run's particle.
+    #[inline]
+    unsafe fn store_run(&self, run: &RunOfA) {
+        if run.k == usize::MAX {
+            return;
+        }
+        assert!(run.k < self.len);
+        // SAFETY: k is in bounds; the caller holds particle k's entries alone.
+        unsafe { (*self.force.add(run.k), *self.torque.add(run.k), *self.count.add(run.k)) = (run.force, run.torque, run.count) };
+    }
+
     /// Adds a pair's force to its particle `k` (side a: +force, torque on a; side b: −force,
     /// torque on b).
     ///
@@ -140,48 +166,105 @@ struct Segment<'a> {
     aside: &'a mut Vec<SetAside>,
 }
 
+/// A segment's pairs and their entries.
+struct Entries<'a> {
+    pairs: &'a [Pair],
+    constants: &'a [PairConstants],
+    touch: &'a mut [Touch],
+    records: &'a mut [Option<ContactRecord>],
+    energy: &'a mut [PairEnergy],
+    kept: &'a mut [PairForce],
+}
+
+/// The contributions of the pairs of one particle as side a, which are consecutive in the
+/// list (it is sorted by a's id, and a particle's pairs as side b, lower ids' pairs, all come
+/// before): summed in registers from the particle's sums, loaded before the first and stored
+/// after the last. These are the additions of adding each pair to memory, in the same order,
+/// with one load and store per particle instead of per pair.
+struct RunOfA {
+    /// The particle (`usize::MAX`: none).
+    k: usize,
+    force: Vec3,
+    torque: Vec3,
+    count: u32,
+}
+
 impl Segment<'_> {
-    #[allow(clippy::too_many_arguments)]
-    fn evaluate(
-        self,
-        pairs: &[Pair],
-        constants: &[PairConstants],
-        touch: &mut [Touch],
-        records: &mut [Option<ContactRecord>],
-        energy: &mut [PairEnergy],
-        kept: &mut [PairForce],
-        arrays: &ParticleArrays,
-        context: &PairContext,
-    ) -> bool {
+    /// The segment through the kernel the processor runs best: the AVX lanes, called from a
+    /// loop compiled for AVX (the processor is asked once per segment, not per group), where
+    /// the processor has them; else the portable lanes.
+    fn evaluate(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked just above).
+            return unsafe { self.evaluate_avx(entries, arrays, context) };
+        }
+        self.evaluate_with(super::pair_lanes::in_lanes, entries, arrays, context)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    fn evaluate_avx(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
+        // the closure inherits the function's AVX, so it may call the AVX kernel
+        self.evaluate_with(|group, arrays, dt, energy| super::pair_lanes_avx::four_pairs_avx(group, arrays, dt, energy), entries, arrays, context)
+    }
+
+    /// Evaluates the segment's pairs, four at a time through `kernel`, and adds each touching
+    /// pair to its particles (to the sums of those whose first segment this is, else aside).
+    #[inline(always)]
+    fn evaluate_with<K>(self, kernel: K, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool
+    where
+        K: Fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4],
+    {
+        let Entries { pairs, constants, touch, records, energy, kept } = entries;
         self.aside.clear();
         let groups = pairs.chunks(4).zip(touch.chunks_mut(4)).zip(records.chunks_mut(4)).zip(energy.chunks_mut(4)).zip(kept.chunks_mut(4));
         let mut fault = false;
         // the pairs' forces are read back at once; the list keeps them only when the totals
         // need their touching flags (the energy guard's sub-steps)
         let mut scratch = [PairForce::default(); 4];
+        let mut run = RunOfA { k: usize::MAX, force: Vec3::zeros(), torque: Vec3::zeros(), count: 0 };
         for ((((pairs, touch), records), energy), kept) in groups {
             let out = if context.energy { kept } else { &mut scratch[..pairs.len()] };
-            fault |= evaluate_group(pairs, constants, touch, records, energy, out, arrays, context);
+            fault |= evaluate_group(&kernel, pairs, constants, touch, records, energy, out, arrays, context);
             for (pair, f) in pairs.iter().zip(out.iter()).filter(|(_, f)| f.touching) {
-                for (particle, is_a) in [(pair.a, true), (pair.b, false)] {
-                    if self.first[particle as usize] == self.index {
-                        // SAFETY: this segment is the particle's first: no other thread writes it
-                        unsafe { self.sums.add(particle as usize, is_a, f) };
-                    } else {
-                        self.aside.push(SetAside { particle, is_a, force: *f });
+                let (a, b) = (pair.a as usize, pair.b as usize);
+                if self.first[a] == self.index {
+                    if run.k != a {
+                        // SAFETY: this segment is both particles' first: no other thread
+                        // writes them
+                        unsafe {
+                            self.sums.store_run(&run);
+                            run = self.sums.load_run(a);
+                        }
                     }
+                    run.force += f.force;
+                    run.torque += f.torque_a;
+                    run.count += 1;
+                } else {
+                    self.aside.push(SetAside { particle: pair.a, is_a: true, force: *f });
+                }
+                if self.first[b] == self.index {
+                    // SAFETY: this segment is the particle's first: no other thread writes it
+                    // (and it is not the open run's particle, which is only ever side a)
+                    unsafe { self.sums.add(b, false, f) };
+                } else {
+                    self.aside.push(SetAside { particle: pair.b, is_a: false, force: *f });
                 }
             }
         }
+        // SAFETY: as above
+        unsafe { self.sums.store_run(&run) };
         fault
     }
 }
 
-/// Up to four consecutive pairs: through [`four_pairs`], and the lanes it leaves (or a last
+/// Up to four consecutive pairs: through `kernel`, and the lanes it leaves (or a last
 /// group of fewer than four) through the scalar [`evaluate`]; true when one has a fault.
 #[allow(clippy::too_many_arguments)]
-#[inline]
-fn evaluate_group(
+#[inline(always)]
+fn evaluate_group<K>(
+    kernel: &K,
     pairs: &[Pair],
     constants: &[PairConstants],
     touch: &mut [Touch],
@@ -190,10 +273,13 @@ fn evaluate_group(
     out: &mut [PairForce],
     arrays: &ParticleArrays,
     context: &PairContext,
-) -> bool {
+) -> bool
+where
+    K: Fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4],
+{
     let lanes = if pairs.len() == 4 {
         let group = FourPairs { pairs, constants, touch: &mut *touch, energy: &mut *energy, out: &mut *out };
-        four_pairs(group, arrays, context.dt, context.energy)
+        kernel(group, arrays, context.dt, context.energy)
     } else {
         [Lane::Scalar; 4]
     };

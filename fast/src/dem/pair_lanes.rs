@@ -168,8 +168,9 @@ pub fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_en
     in_lanes(group, arrays, dt, measure_energy)
 }
 
+/// The portable lanes (every target).
 #[inline(always)]
-fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+pub(super) fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     let FourPairs { pairs, constants, touch, energy, out } = group;
     let (a, b) = ([0, 1, 2, 3].map(|l| pairs[l].a as usize), [0, 1, 2, 3].map(|l| pairs[l].b as usize));
     let c = [0, 1, 2, 3].map(|l| &constants[pairs[l].constants as usize]);

@@ -10,12 +10,12 @@
 
 use std::arch::x86_64::*;
 
-use spillage_model::closure::contact::SlipTest;
+use spillage_model::closure::contact::{PairConstants, SlipTest};
 use spillage_model::particles::guards::MAX_OVERLAP_RATIO;
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::ParticleArrays;
-use super::neighbour_list::{PairEnergy, PairForce};
+use super::neighbour_list::{PairEnergy, Touch};
 use super::pair_lanes::{FourPairs, Lane};
 
 /// Four 3-vectors, one per lane.
@@ -31,13 +31,6 @@ struct V {
 #[target_feature(enable = "avx")]
 fn lanes(f: impl Fn(usize) -> f64) -> __m256d {
     _mm256_set_pd(f(3), f(2), f(1), f(0))
-}
-
-#[inline]
-#[target_feature(enable = "avx")]
-fn gather(f: impl Fn(usize) -> Vec3) -> V {
-    let v = [f(0), f(1), f(2), f(3)];
-    V { x: _mm256_set_pd(v[3].x, v[2].x, v[1].x, v[0].x), y: _mm256_set_pd(v[3].y, v[2].y, v[1].y, v[0].y), z: _mm256_set_pd(v[3].z, v[2].z, v[1].z, v[0].z) }
 }
 
 #[inline]
@@ -97,12 +90,58 @@ fn select(when: __m256d, yes: V, no: V) -> V {
     V { x: _mm256_blendv_pd(no.x, yes.x, when), y: _mm256_blendv_pd(no.y, yes.y, when), z: _mm256_blendv_pd(no.z, yes.z, when) }
 }
 
-/// The four lanes' vectors.
-#[inline]
-#[target_feature(enable = "avx")]
-fn unpack(v: V) -> [Vec3; 4] {
-    let (x, y, z) = (to_array(v.x), to_array(v.y), to_array(v.z));
-    [0, 1, 2, 3].map(|l| Vec3::new(x[l], y[l], z[l]))
+/// Rows `k` of `v` (each below its length), one register per component: each row's x, y, z
+/// loaded at once (a masked load, which reads nothing past the row) and the four transposed,
+/// 4 loads and 7 shuffles where one load per component and lane took 12 and 9.
+///
+/// # Safety
+/// The processor has AVX, and every `k` is below `v`'s length (called from the kernel only,
+/// which checks its indices once; written without `target_feature` so that it is always
+/// inlined there: a separate call returned its registers through memory).
+#[inline(always)]
+unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
+    // SAFETY: the processor has AVX and row i < len is three contiguous f64 (nalgebra's array
+    // storage; this function's contract), and the mask reads only those three
+    unsafe {
+        let xyz = _mm256_set_epi64x(0, -1, -1, -1);
+        let row = |i: usize| _mm256_maskload_pd(v.as_ptr().add(i) as *const f64, xyz);
+        let [x, y, z, _] = transpose(row(k[0]), row(k[1]), row(k[2]), row(k[3]));
+        V { x, y, z }
+    }
+}
+
+/// The four pairs' contact histories: tangential overlaps and damping ratios (each `Touch`
+/// is exactly four doubles, loaded at once and transposed).
+///
+/// # Safety
+/// As [`gather_rows`].
+#[inline(always)]
+unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
+    assert!(touch.len() >= 4);
+    // SAFETY: l < 4 ≤ len, and a Touch is four contiguous f64 (repr(C): a Vec3, then an f64)
+    let row = |l: usize| unsafe { _mm256_loadu_pd(touch.as_ptr().add(l) as *const f64) };
+    // SAFETY: as above
+    let [x, y, z, damping_ratio] = unsafe { transpose(row(0), row(1), row(2), row(3)) };
+    (V { x, y, z }, damping_ratio)
+}
+
+/// Rows (a₀ a₁ a₂ a₃), (b…), (c…), (d…) into columns (a₀ b₀ c₀ d₀), (a₁ …), (a₂ …), (a₃ …).
+///
+/// # Safety
+/// As [`gather_rows`].
+#[inline(always)]
+unsafe fn transpose(a: __m256d, b: __m256d, c: __m256d, d: __m256d) -> [__m256d; 4] {
+    // SAFETY: the processor has AVX (this function's contract)
+    unsafe {
+        let (ab_even, ab_odd) = (_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
+        let (cd_even, cd_odd) = (_mm256_unpacklo_pd(c, d), _mm256_unpackhi_pd(c, d));
+        [
+            _mm256_permute2f128_pd::<0x20>(ab_even, cd_even),
+            _mm256_permute2f128_pd::<0x20>(ab_odd, cd_odd),
+            _mm256_permute2f128_pd::<0x31>(ab_even, cd_even),
+            _mm256_permute2f128_pd::<0x31>(ab_odd, cd_odd),
+        ]
+    }
 }
 
 #[inline]
@@ -116,15 +155,29 @@ fn to_array(v: __m256d) -> [f64; 4] {
 
 /// [`super::pair_lanes::four_pairs`] in AVX instructions (the caller checked the processor has
 /// them).
+#[inline]
 #[target_feature(enable = "avx")]
 pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     let FourPairs { pairs, constants, touch, energy, out } = group;
     let (a, b) = ([0, 1, 2, 3].map(|l| pairs[l].a as usize), [0, 1, 2, 3].map(|l| pairs[l].b as usize));
+    // the group's indices checked once, in place of a check per read (they were a tenth of
+    // the kernel's instructions)
+    let n = arrays.radius.len().min(arrays.position.len()).min(arrays.velocity.len()).min(arrays.spin.len());
+    let below = |k: [usize; 4]| (k[0] < n) & (k[1] < n) & (k[2] < n) & (k[3] < n);
+    assert!(below(a) & below(b) & (touch.len() >= 4) & (energy.len() >= 4) & (out.len() >= 4));
+    // SAFETY: k is one of the group's indices, below every array's length (checked above)
+    let radius = |k: usize| unsafe { *arrays.radius.get_unchecked(k) };
     let c = [0, 1, 2, 3].map(|l| &constants[pairs[l].constants as usize]);
+    // a bed of one size and material has one set of constants: one load each, not four
+    let shared = pairs[1..4].iter().all(|p| p.constants == pairs[0].constants);
+    let constant = |of: fn(&PairConstants) -> f64| if shared { _mm256_set1_pd(of(c[0])) } else { lanes(|l| of(c[l])) };
     let zero = _mm256_setzero_pd();
-    let ra = lanes(|l| arrays.radius[a[l]]);
-    let rb = lanes(|l| arrays.radius[b[l]]);
-    let offset = sub(gather(|l| arrays.position[b[l]]), gather(|l| arrays.position[a[l]]));
+    let (old_delta, damping_ratio) = unsafe { gather_touch(touch) };
+    let ra = lanes(|l| radius(a[l]));
+    let rb = lanes(|l| radius(b[l]));
+    // SAFETY (the gathers): this function runs where the processor has AVX, and the indices
+    // are below every array's length (checked above)
+    let offset = unsafe { sub(gather_rows(&arrays.position, b), gather_rows(&arrays.position, a)) };
     let distance = _mm256_sqrt_pd(dot(offset, offset));
     let reach = _mm256_add_pd(ra, rb);
     let overlap = _mm256_sub_pd(reach, distance);
@@ -133,8 +186,8 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let arm_a = scale(normal, ra);
     let arm_b = scale(normal, negate(rb));
     let v_rel = sub(
-        add(gather(|l| arrays.velocity[a[l]]), cross(gather(|l| arrays.spin[a[l]]), arm_a)),
-        add(gather(|l| arrays.velocity[b[l]]), cross(gather(|l| arrays.spin[b[l]]), arm_b)),
+        add(unsafe { gather_rows(&arrays.velocity, a) }, cross(unsafe { gather_rows(&arrays.spin, a) }, arm_a)),
+        add(unsafe { gather_rows(&arrays.velocity, b) }, cross(unsafe { gather_rows(&arrays.spin, b) }, arm_b)),
     );
 
     // hertz_mindlin_force, lane by lane
@@ -143,9 +196,8 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let u_t = sub(v_rel, u_n);
     // max(δ, 0) as f64::max takes it for every δ a kept lane can have (δ > 0)
     let root = _mm256_sqrt_pd(_mm256_max_pd(overlap, zero));
-    let eta = _mm256_mul_pd(lanes(|l| touch[l].damping_ratio() * c[l].damping_scale), _mm256_sqrt_pd(root));
-    let f_n = sub(scale(normal, _mm256_mul_pd(lanes(|l| -c[l].normal_stiffness), _mm256_mul_pd(overlap, root))), scale(u_n, eta));
-    let old_delta = gather(|l| touch[l].tangential_overlap);
+    let eta = _mm256_mul_pd(_mm256_mul_pd(damping_ratio, constant(|c| c.damping_scale)), _mm256_sqrt_pd(root));
+    let f_n = sub(scale(normal, _mm256_mul_pd(constant(|c| -c.normal_stiffness), _mm256_mul_pd(overlap, root))), scale(u_n, eta));
     let old_length_sq = dot(old_delta, old_delta);
     let in_plane = sub(old_delta, scale(normal, dot(old_delta, normal)));
     let in_plane_length_sq = dot(in_plane, in_plane);
@@ -154,17 +206,17 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let rotated = _mm256_cmp_pd::<_CMP_GT_OQ>(in_plane_length_sq, zero);
     let keep_length = _mm256_blendv_pd(one, _mm256_sqrt_pd(_mm256_div_pd(old_length_sq, in_plane_length_sq)), rotated);
     let delta = add(scale(in_plane, keep_length), scale(u_t, _mm256_set1_pd(dt)));
-    let spring = _mm256_mul_pd(lanes(|l| c[l].tangential_stiffness), root);
+    let spring = _mm256_mul_pd(constant(|c| c.tangential_stiffness), root);
     let spring_force = scale(delta, negate(spring));
     let trial = sub(spring_force, scale(u_t, eta));
-    let friction = lanes(|l| c[l].friction);
+    let friction = constant(|c| c.friction);
     let f_n_sq = dot(f_n, f_n);
     let limit_sq = _mm256_mul_pd(_mm256_mul_pd(friction, friction), f_n_sq);
     let trial_sq = dot(trial, trial);
     let spring_sq = dot(spring_force, spring_force);
 
     // (T3.95) slip branch, computed in every lane and kept where the Coulomb limit is exceeded
-    let thesis = lanes(|l| if c[l].slip_test == SlipTest::Thesis { f64::from_bits(u64::MAX) } else { 0.0 });
+    let thesis = constant(|c| if c.slip_test == SlipTest::Thesis { f64::from_bits(u64::MAX) } else { 0.0 });
     let exceeds = _mm256_blendv_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(spring_sq, limit_sq), _mm256_cmp_pd::<_CMP_GT_OQ>(trial_sq, limit_sq), thesis);
     // a group with no lane sliding (most of a settled bed's) keeps δ_t and the trial force,
     // as each lane would (a rescale by 1 keeps the bits)
@@ -176,28 +228,49 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let torque_b = cross(arm_b, minus);
 
     let elastic = if measure_energy { to_array(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0.4), _mm256_sqrt_pd(f_n_sq)), overlap)) } else { [0.0; 4] };
-    let touching = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(distance, reach));
-    let (ra, rb, distance, overlap) = (to_array(ra), to_array(rb), to_array(distance), to_array(overlap));
-    let (delta, force, torque_a, torque_b) = (unpack(delta), unpack(force), unpack(torque_a), unpack(torque_b));
+    // each lane's outcome, as the scalar tests take it: apart and not touched before; or
+    // touching, touched before and not near a fault (done here); else left to the scalar code
+    let all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    let touching = _mm256_cmp_pd::<_CMP_LT_OQ>(distance, reach);
+    let active = _mm256_cmp_pd::<_CMP_ORD_Q>(damping_ratio, damping_ratio);
+    let limit = _mm256_mul_pd(_mm256_set1_pd(MAX_OVERLAP_RATIO), _mm256_min_pd(ra, rb));
+    let near_fault = _mm256_or_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(distance, zero), _mm256_cmp_pd::<_CMP_GT_OQ>(overlap, limit));
+    let done = _mm256_movemask_pd(_mm256_andnot_pd(near_fault, _mm256_and_pd(touching, active)));
+    let apart = _mm256_movemask_pd(_mm256_andnot_pd(_mm256_or_pd(touching, active), all));
+    // SAFETY (the transposes): this function runs where the processor has AVX
+    let (history, force, torque_a, torque_b) = unsafe {
+        (
+            transpose(delta.x, delta.y, delta.z, damping_ratio),
+            transpose(force.x, force.y, force.z, zero),
+            transpose(torque_a.x, torque_a.y, torque_a.z, zero),
+            transpose(torque_b.x, torque_b.y, torque_b.z, zero),
+        )
+    };
+    let xyz = _mm256_set_epi64x(0, -1, -1, -1);
+    let overlap = to_array(overlap);
     let mut result = [Lane::Scalar; 4];
     for l in 0..4 {
-        if touching & (1 << l) == 0 {
-            if !touch[l].active() {
-                out[l].touching = false;
-                result[l] = Lane::Apart;
+        if apart & (1 << l) != 0 {
+            out[l].touching = false;
+            result[l] = Lane::Apart;
+        } else if done & (1 << l) != 0 {
+            // SAFETY: l < 4 ≤ both lengths (checked above); a Touch is its δ_t and damping
+            // ratio, four f64, and a PairForce nine f64 from its start (both repr(C)): force and
+            // torque on a are stored four at a time, each over the next one's first, and the
+            // torque on b three, before the flag
+            unsafe {
+                _mm256_storeu_pd(touch.as_mut_ptr().add(l) as *mut f64, history[l]);
+                let entry = out.as_mut_ptr().add(l) as *mut f64;
+                _mm256_storeu_pd(entry, force[l]);
+                _mm256_storeu_pd(entry.add(3), torque_a[l]);
+                _mm256_maskstore_pd(entry.add(6), xyz, torque_b[l]);
             }
-            continue;
+            out[l].touching = true;
+            if measure_energy {
+                energy[l] = PairEnergy { overlap: overlap[l], elastic: elastic[l], placed: 0.0 };
+            }
+            result[l] = Lane::Done;
         }
-        let near_fault = distance[l] == 0.0 || overlap[l] > MAX_OVERLAP_RATIO * ra[l].min(rb[l]);
-        if !touch[l].active() || near_fault {
-            continue;
-        }
-        touch[l].tangential_overlap = delta[l];
-        out[l] = PairForce { touching: true, force: force[l], torque_a: torque_a[l], torque_b: torque_b[l] };
-        if measure_energy {
-            energy[l] = PairEnergy { overlap: overlap[l], elastic: elastic[l], placed: 0.0 };
-        }
-        result[l] = Lane::Done;
     }
     result
 }

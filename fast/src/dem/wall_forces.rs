@@ -138,7 +138,9 @@ pub struct CandidateMarks<'a> {
 }
 
 impl BeforeMove for BlockWalls<'_> {
-    #[inline]
+    /// Returns at once for a particle not marked as a candidate (most of a bed's), without the
+    /// cost of a call; the others are looked at out of line.
+    #[inline(always)]
     fn before_move(
         &mut self,
         j: usize,
@@ -151,10 +153,30 @@ impl BeforeMove for BlockWalls<'_> {
         torque: &mut Vec3,
         count: &mut u32,
     ) {
-        let CandidateMarks { pick, mark, built_at } = self.candidates;
-        if pick && !self.may_touch[j] {
+        if self.candidates.pick && !self.may_touch[j] {
             return;
         }
+        self.look_at_walls(j, k, properties, position, velocity, spin, force, torque, count);
+    }
+}
+
+impl BlockWalls<'_> {
+    /// [`BeforeMove::before_move`] for a particle that may touch a wall.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn look_at_walls(
+        &mut self,
+        j: usize,
+        k: usize,
+        properties: &ParticleProperties,
+        position: &Vec3,
+        velocity: &Vec3,
+        spin: &Vec3,
+        force: &mut Vec3,
+        torque: &mut Vec3,
+        count: &mut u32,
+    ) {
+        let CandidateMarks { mark, built_at, .. } = self.candidates;
         let n_walls = self.context.meshes.len();
         let near = &mut self.near[j * n_walls..(j + 1) * n_walls];
         let (far, side) = (&mut self.far[j], &mut self.sides[j]);
