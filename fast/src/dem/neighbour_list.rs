@@ -80,7 +80,8 @@ pub struct PairEnergy {
 
 /// The forces of a pair's last evaluation, apart from the rest so the per-particle sums read
 /// little memory: force on a (b's is `−force`), torques on a and b. Laid out as nine f64, then
-/// the flag (`repr(C)`), which the AVX kernel stores three at a time.
+/// the flag (`repr(C)`), which the AVX kernel stores as three rows: force and torque on a four
+/// doubles at a time (each over the next one's first), the torque on b three.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub struct PairForce {
@@ -94,6 +95,8 @@ const _: () = assert!(
     std::mem::offset_of!(PairForce, torque_a) == 24 && std::mem::offset_of!(PairForce, torque_b) == 48 && std::mem::offset_of!(PairForce, touching) == 72
 );
 const _: () = assert!(std::mem::size_of::<Touch>() == 32 && std::mem::offset_of!(Touch, damping_ratio) == 24);
+// the AVX kernel reads and writes a Vec3 as three packed f64
+const _: () = assert!(std::mem::size_of::<Vec3>() == 24 && std::mem::align_of::<Vec3>() == 8);
 
 /// Where a new list takes the histories of its pairs from.
 #[derive(Clone, Copy)]
@@ -220,7 +223,7 @@ impl NeighbourList {
 
         // the histories are in the same order (the state's records by particle, then partner;
         // the previous list, built for these particles, by ids), so each pair's is found by
-        // walking both lists once, not by a search per pair
+        // walking that list once beside the found pairs, not by a search per pair
         let previous_valid = self.built_at.len() == n;
         let mut sources = HistorySources { history, previous_pairs: &self.previous_pairs, previous_valid, next: 0 };
         // each pair's history, and its constants interned (a bed of one size has one entry)

@@ -158,7 +158,9 @@ pub struct FourPairs<'a> {
 /// The four pairs of `group` into their entries; returns each lane's outcome. Entries of lanes
 /// marked [`Lane::Scalar`] are not written. Written out in AVX instructions where the
 /// processor has them (four f64 lanes in one register; the same IEEE operations, so the same
-/// bits), else the portable lanes below.
+/// bits), else the portable lanes below. The pair loop asks the processor once per segment
+/// and calls the kernels itself ([`super::pair_forces`]); this is the kernels' one entry for
+/// a single group (the unit test below).
 pub fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
@@ -328,7 +330,10 @@ mod tests {
                     arrays.velocity.push(Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 0.2);
                     arrays.spin.push(Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 20.0);
                 }
-                pairs.push(Pair { a: 2 * l as u32, b: 2 * l as u32 + 1, constants: l as u32 });
+                // every third group's lanes share lane 0's constants (the kernel then loads
+                // them once)
+                let shared = trial % 3 == 1;
+                pairs.push(Pair { a: 2 * l as u32, b: 2 * l as u32 + 1, constants: if shared { 0 } else { l as u32 } });
                 constants.push(PairConstants {
                     normal_stiffness: 1e6 + 1e9 * uniform(),
                     tangential_stiffness: 1e6 + 1e9 * uniform(),
@@ -357,7 +362,7 @@ mod tests {
                         let v_rel = arrays.velocity[a] + arrays.spin[a].cross(&(ra * normal)) - (arrays.velocity[b] + arrays.spin[b].cross(&(-rb * normal)));
                         let mut delta = before[l].tangential_overlap;
                         let overlap = ra + rb - distance;
-                        let f = hertz_mindlin_force(&constants[l], before[l].damping_ratio(), normal, overlap, v_rel, &mut delta, dt);
+                        let f = hertz_mindlin_force(&constants[pairs[l].constants as usize], before[l].damping_ratio(), normal, overlap, v_rel, &mut delta, dt);
                         assert!(before[l].active());
                         sliding += f.sliding as usize;
                         let same = |x: Vec3, y: Vec3| (0..3).all(|i| x[i].to_bits() == y[i].to_bits());

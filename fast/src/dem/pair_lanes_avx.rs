@@ -103,8 +103,7 @@ unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
     // SAFETY: the processor has AVX and row i < len is three contiguous f64 (nalgebra's array
     // storage; this function's contract), and the mask reads only those three
     unsafe {
-        let xyz = _mm256_set_epi64x(0, -1, -1, -1);
-        let row = |i: usize| _mm256_maskload_pd(v.as_ptr().add(i) as *const f64, xyz);
+        let row = |i: usize| _mm256_maskload_pd(v.as_ptr().add(i) as *const f64, xyz());
         let [x, y, z, _] = transpose(row(k[0]), row(k[1]), row(k[2]), row(k[3]));
         V { x, y, z }
     }
@@ -114,7 +113,8 @@ unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
 /// is exactly four doubles, loaded at once and transposed).
 ///
 /// # Safety
-/// As [`gather_rows`].
+/// The processor has AVX (it checks the length itself; written without `target_feature` for
+/// the reason [`gather_rows`] gives).
 #[inline(always)]
 unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
     assert!(touch.len() >= 4);
@@ -125,10 +125,17 @@ unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
     (V { x, y, z }, damping_ratio)
 }
 
+/// The mask of a row's x, y and z (not the fourth double) for masked loads and stores.
+#[inline]
+#[target_feature(enable = "avx")]
+fn xyz() -> __m256i {
+    _mm256_set_epi64x(0, -1, -1, -1)
+}
+
 /// Rows (a₀ a₁ a₂ a₃), (b…), (c…), (d…) into columns (a₀ b₀ c₀ d₀), (a₁ …), (a₂ …), (a₃ …).
 ///
 /// # Safety
-/// As [`gather_rows`].
+/// The processor has AVX.
 #[inline(always)]
 unsafe fn transpose(a: __m256d, b: __m256d, c: __m256d, d: __m256d) -> [__m256d; 4] {
     // SAFETY: the processor has AVX (this function's contract)
@@ -172,11 +179,11 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
     let shared = pairs[1..4].iter().all(|p| p.constants == pairs[0].constants);
     let constant = |of: fn(&PairConstants) -> f64| if shared { _mm256_set1_pd(of(c[0])) } else { lanes(|l| of(c[l])) };
     let zero = _mm256_setzero_pd();
+    // SAFETY (the gathers): this function runs where the processor has AVX, and the indices
+    // are below every array's length (checked above)
     let (old_delta, damping_ratio) = unsafe { gather_touch(touch) };
     let ra = lanes(|l| radius(a[l]));
     let rb = lanes(|l| radius(b[l]));
-    // SAFETY (the gathers): this function runs where the processor has AVX, and the indices
-    // are below every array's length (checked above)
     let offset = unsafe { sub(gather_rows(&arrays.position, b), gather_rows(&arrays.position, a)) };
     let distance = _mm256_sqrt_pd(dot(offset, offset));
     let reach = _mm256_add_pd(ra, rb);
@@ -246,7 +253,6 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
             transpose(torque_b.x, torque_b.y, torque_b.z, zero),
         )
     };
-    let xyz = _mm256_set_epi64x(0, -1, -1, -1);
     let overlap = to_array(overlap);
     let mut result = [Lane::Scalar; 4];
     for l in 0..4 {
@@ -263,7 +269,7 @@ pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measur
                 let entry = out.as_mut_ptr().add(l) as *mut f64;
                 _mm256_storeu_pd(entry, force[l]);
                 _mm256_storeu_pd(entry.add(3), torque_a[l]);
-                _mm256_maskstore_pd(entry.add(6), xyz, torque_b[l]);
+                _mm256_maskstore_pd(entry.add(6), xyz(), torque_b[l]);
             }
             out[l].touching = true;
             if measure_energy {
