@@ -135,7 +135,7 @@ impl Neg for V4 {
     }
 }
 
-/// What became of each lane of [`four_pairs`].
+/// What became of each lane of a group of four pairs ([`in_lanes`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lane {
     /// Evaluated: the contact continues (its entries are written).
@@ -155,22 +155,10 @@ pub struct FourPairs<'a> {
     pub out: &'a mut [PairForce],
 }
 
-/// The four pairs of `group` into their entries; returns each lane's outcome. Entries of lanes
-/// marked [`Lane::Scalar`] are not written. Written out in AVX instructions where the
-/// processor has them (four f64 lanes in one register; the same IEEE operations, so the same
-/// bits), else the portable lanes below. The pair loop asks the processor once per segment
-/// and calls the kernels itself ([`super::pair_forces`]); this is the kernels' one entry for
-/// a single group (the unit test below).
-pub fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the processor has AVX (checked just above).
-        return unsafe { super::pair_lanes_avx::four_pairs_avx(group, arrays, dt, measure_energy) };
-    }
-    in_lanes(group, arrays, dt, measure_energy)
-}
-
-/// The portable lanes (every target).
+/// The four pairs of `group` into their entries, in portable lanes (every target); returns
+/// each lane's outcome. Entries of lanes marked [`Lane::Scalar`] are not written. Where the
+/// processor has AVX the pair loop ([`super::pair_forces`]) runs `pair_lanes_avx`'s kernel
+/// instead: the same IEEE operations, so the same bits.
 #[inline(always)]
 pub(super) fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     let FourPairs { pairs, constants, touch, energy, out } = group;
@@ -290,6 +278,16 @@ mod tests {
     use spillage_model::closure::contact::hertz_mindlin_force;
 
     type Kernel = fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4];
+
+    /// The kernel the processor runs: the AVX lanes where it has them, else the portable ones.
+    fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the processor has AVX (checked just above).
+            return unsafe { super::super::pair_lanes_avx::four_pairs_avx(group, arrays, dt, measure_energy) };
+        }
+        in_lanes(group, arrays, dt, measure_energy)
+    }
 
     /// Lanes against the scalar law, bit for bit, over sticking contacts of random geometry,
     /// sizes, stiffnesses and histories (both slip tests), and the outcome of the other cases:

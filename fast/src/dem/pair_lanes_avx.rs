@@ -160,7 +160,7 @@ fn to_array(v: __m256d) -> [f64; 4] {
     a
 }
 
-/// [`super::pair_lanes::four_pairs`] in AVX instructions (the caller checked the processor has
+/// [`super::pair_lanes::in_lanes`] in AVX instructions (the caller checked the processor has
 /// them).
 #[inline]
 #[target_feature(enable = "avx")]
