@@ -498,3 +498,46 @@ impl ParticlePhase for FastDem {
         Ok(Some(load))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use spillage_model::case::Case;
+    use spillage_model::solver::Solver;
+    use spillage_model::state::State;
+    use spillage_model::step::Coupled;
+
+    use super::FastDem;
+
+    /// Once the candidates of a list are marked, the particles of a settling bed far from its
+    /// box's faces are not looked at: every candidate lies within its radius plus two skins of a
+    /// face (the query's radius and skin, plus the skin a particle may move while marks of the
+    /// list hold). Marks kept from an earlier list used to leave 7 140 of the 10⁴ bed's
+    /// particles candidates after 8 steps, where 1 444 lie that near a face.
+    #[test]
+    fn far_particles_are_not_wall_candidates() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../cases/bench/settle_box_10k.toml");
+        let case = Case::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let mut state = State::default();
+        let dem = FastDem::new(&case, &mut state).expect("fast DEM");
+        let mut run = Coupled::particles_only(&case, state, dem).expect("run");
+        for _ in 0..8 {
+            run.step().expect("step");
+        }
+        let dem = run.particle_phase().expect("particles");
+        assert!(dem.candidates.epoch.is_some(), "the candidates are marked");
+        let (lo, hi) = ([0.0, 0.0, 0.0], [0.1601110702, 0.2178460972, 0.3]);
+        let arrays = &dem.arrays;
+        let near_a_face = (0..arrays.len())
+            .filter(|&k| {
+                let x = arrays.position[k];
+                let gap = (0..3).map(|a| (x[a] - lo[a]).min(hi[a] - x[a])).fold(f64::INFINITY, f64::min);
+                gap < arrays.radius[k] + 2.0 * dem.list.skin
+            })
+            .count();
+        let candidates = dem.candidates.may_touch.iter().filter(|&&m| m).count();
+        assert!(candidates <= near_a_face, "{candidates} candidates, {near_a_face} particles near a face, of {}", arrays.len());
+        assert!(candidates > 0);
+    }
+}

@@ -153,6 +153,7 @@ impl BeforeMove for BlockWalls<'_> {
         torque: &mut Vec3,
         count: &mut u32,
     ) {
+        self.prefetch_ahead(j);
         if self.candidates.pick && !self.may_touch[j] {
             return;
         }
@@ -160,7 +161,53 @@ impl BeforeMove for BlockWalls<'_> {
     }
 }
 
+/// How many particles ahead of the one it moves the pass asks for the wall state of the next
+/// ones it will look at ([`BlockWalls::prefetch_ahead`]): their far marks, sides and near
+/// triangles at twice this distance, the buffers these point to (contact histories, triangle
+/// lists) at this distance, by when the first have arrived. A candidate's few hundred bytes of
+/// wall state lie scattered beyond the caches after a sub-step's pairs; waiting on them took
+/// most of the wall pass's time (prefetched, a 10⁴ bed's one-thread run took 7 % less, median
+/// of 16 interleaved pairs). A prefetch changes no value.
+const PREFETCH_DISTANCE: usize = 4;
+
+/// Asks the processor to bring the cache line at `p` near: a hint, which never faults and
+/// changes nothing the program sees.
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing the program sees and never faults, whatever the address
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 impl BlockWalls<'_> {
+    /// Prefetches the wall state of the particles [`PREFETCH_DISTANCE`] and twice that ahead of
+    /// particle `j` that the pass will look at.
+    #[inline(always)]
+    fn prefetch_ahead(&self, j: usize) {
+        let n_walls = self.context.meshes.len();
+        let looked_at = |j: usize| j < self.far.len() && (!self.candidates.pick || self.may_touch[j]);
+        let far = j + 2 * PREFETCH_DISTANCE;
+        if looked_at(far) {
+            prefetch(&self.far[far]);
+            let side: *const WallSide = &self.sides[far];
+            prefetch(side);
+            prefetch(side.cast::<u8>().wrapping_add(64));
+            prefetch(&self.near[far * n_walls]);
+        }
+        let near = j + PREFETCH_DISTANCE;
+        if looked_at(near) {
+            prefetch(self.sides[near].history.as_ptr());
+            for triangles in &self.near[near * n_walls..(near + 1) * n_walls] {
+                prefetch(triangles.triangles.as_ptr());
+            }
+        }
+    }
+
     /// [`BeforeMove::before_move`] for a particle that may touch a wall.
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
@@ -181,6 +228,18 @@ impl BlockWalls<'_> {
         let near = &mut self.near[j * n_walls..(j + 1) * n_walls];
         let (far, side) = (&mut self.far[j], &mut self.sides[j]);
         let particle = WallParticle { k, position: *position, velocity: *velocity, spin: *spin, properties: *properties };
+        if mark && far.epoch == self.context.epoch && !far.stays_far_while_listed(&built_at[k], self.context.epoch, self.context.skin) {
+            // found far from every wall before the list was built, and too far from where the
+            // list was built for the mark to last the list's life: looked at afresh from here
+            // (every wall queried again), it is marked far from here and skipped until the
+            // next list, instead of being looked at in every sub-step (in the 10⁴ bed 5.0e6
+            // looks in 1000 sub-steps became 1.6e6, the same bits). A fresh look finds what the
+            // old mark vouched for: no triangle within the radius.
+            far.epoch = 0;
+            for near in near.iter_mut() {
+                near.generation = 0;
+            }
+        }
         // a particle far from every wall keeps its empty side and `at_wall` false
         if evaluate_walls(&particle, self.context, far, near, side, force, torque) {
             *count += side.contacts;
