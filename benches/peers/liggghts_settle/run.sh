@@ -24,6 +24,10 @@
 #   STEPS            outer steps of every run, both codes (default the case's): fewer for a quick
 #                    look; the contacts are still closing early on, so a short run's
 #                    particle-steps/s are higher than a full run's (compare equal lengths only)
+#   ROUNDS           repeat every run this many times, the codes taking turns (default 1), and
+#                    give each ratio's median over the rounds, each round's ratio taken within
+#                    the round: the machine's speed drifts by more than the ratios' differences
+#                    between runs made minutes apart
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
@@ -123,8 +127,18 @@ write_dump all custom final.dump id x y z modify format "%d %.17g %.17g %.17g"
 EOT
 
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+bin=${SPILLAGE_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/spillage}
+case "$bin" in /*) ;; *) bin="$root/$bin" ;; esac
+rounds=${ROUNDS:-1}
+if ! [[ "$rounds" =~ ^[1-9][0-9]*$ ]]; then
+  echo "run.sh: ROUNDS=$rounds: expected a whole number ≥ 1" >&2
+  exit 2
+fi
+for round in $(seq "$rounds"); do
+export ROUND=$round
+suffix=$([ "$rounds" = 1 ] || echo "_r$round")
 for procs in ${LIGGGHTS_PROCS:-1 2}; do
-  dir="$work/liggghts_np$procs"
+  dir="$work/liggghts_np$procs$suffix"
   mkdir -p "$dir"
   cp "$work/in.settle" "$work/lattice.data" "$dir/"
   if [ "$procs" = 1 ]; then
@@ -143,8 +157,6 @@ for procs in ${LIGGGHTS_PROCS:-1 2}; do
   python3 "$here/report.py" liggghts "$dir/log.liggghts" "$dir/final.dump" "$work/params.sh" >> "$results"
 done
 
-bin=${SPILLAGE_BIN:-${CARGO_TARGET_DIR:-$root/target}/release/spillage}
-case "$bin" in /*) ;; *) bin="$root/$bin" ;; esac
 if [ -x "$bin" ]; then
   # the case with frames on (the first and the last only; written outside the timed steps) so
   # the end state can be read, and STEPS if given
@@ -154,16 +166,17 @@ if [ -x "$bin" ]; then
   for run in ${SPILLAGE_RUNS:-fast:1 fast:2 reference:1}; do
     solver=${run%%:*}
     threads=${run##*:}
-    out="$work/spillage_${solver}_t$threads"
+    out="$work/spillage_${solver}_t$threads$suffix"
     echo "spillage --solver $solver --threads $threads in $out"
     "$bin" run "$spillage_case" --solver "$solver" --threads "$threads" --out "$out" --force > "$out.log" 2>&1 \
       || { echo "spillage failed: tail of $out.log:"; tail -20 "$out.log"; exit 1; }
     grep -h '^note:' "$out.log" | sort -u || true
     python3 "$here/report.py" spillage "$out" "$work/params.sh" "$solver" >> "$results"
   done
-else
+elif [ "$round" = 1 ]; then
   echo "spillage binary $bin not found: LIGGGHTS only (cargo build --release, or set SPILLAGE_BIN)"
 fi
+done
 
 echo
 python3 "$here/report.py" table "$results"
