@@ -13,8 +13,8 @@
 //! holds a team for a whole run for that alone.
 //!
 //! Each member has a home share of every part's pieces, the same share of consecutive pieces
-//! every time (the caller the first): it runs its own from the front, then takes what is left of
-//! the others' from the back. A sub-step's parts cut the particles the same way every time, so a
+//! in every part of the team (the caller the first, the helpers the next ones in the order they
+//! join): it runs its own from the front, then takes what is left of the others' from the back. A sub-step's parts cut the particles the same way every time, so a
 //! thread keeps meeting the same particles and finds them in its own cache. Pieces handed out
 //! first come, first served went to whichever thread came first, so a block's particles changed
 //! cores from one sub-step to the next (measured on 2 threads, medians of interleaved runs: the
@@ -71,8 +71,9 @@ pub struct Team {
     /// The posted part's number in the upper 32 bits (its publication: the homes are set first).
     ticket: AtomicU64,
     /// Per member, the pieces of its home share not yet claimed: the part's number in the upper
-    /// 32 bits, the first unclaimed piece in the next 16, the end of the share in the lower 16.
-    homes: Vec<AtomicU64>,
+    /// [`PART_BITS`], the first unclaimed piece in the next [`PIECE_BITS`], the end of the share
+    /// in the lower [`PIECE_BITS`].
+    homes: Vec<Share>,
     /// Pieces of the posted part finished.
     finished: AtomicUsize,
     /// A piece panicked: its payload, re-raised by [`Team::run`] on the caller.
@@ -90,9 +91,19 @@ pub struct Team {
     owner: OnceLock<std::thread::ThreadId>,
 }
 
-/// Bits of a home share's bounds (pieces of a part: fewer than 2¹⁶).
-const PIECE_BITS: u32 = 16;
+/// A member's home share, on a cache line of its own: the members claim their own shares at
+/// the same time, and shares on one line would pass it between the cores at every claim.
+#[repr(align(128))]
+struct Share(AtomicU64);
+
+/// Bits of a home share's bounds: a part has fewer than 2²⁰ pieces (a pass's blocks of 1024
+/// particles: a billion particles).
+const PIECE_BITS: u32 = 20;
 const PIECE_MASK: u64 = (1 << PIECE_BITS) - 1;
+/// Bits of the part's number in a share: a team posts fewer than 2²⁴ parts (two a DEM sub-step,
+/// a team lasting one outer step).
+const PART_BITS: u32 = 64 - 2 * PIECE_BITS;
+const PART_SHIFT: u32 = 2 * PIECE_BITS;
 
 impl Team {
     /// A team of `members` threads (the caller and its helpers).
@@ -100,7 +111,7 @@ impl Team {
         Self {
             posted: Mutex::new(Posted { part: 0, run: &no_part as &Part<'static> as *const Part<'static> }),
             ticket: AtomicU64::new(0),
-            homes: (0..members.max(1)).map(|_| AtomicU64::new(0)).collect(),
+            homes: (0..members.max(1)).map(|_| Share(AtomicU64::new(0))).collect(),
             finished: AtomicUsize::new(0),
             panic: Mutex::new(None),
             stop: AtomicBool::new(false),
@@ -120,7 +131,7 @@ impl Team {
         }
         assert!(!self.posting.swap(true, Ordering::Acquire), "a team runs one part at a time");
         let number = self.parts.fetch_add(1, Ordering::Relaxed) + 1;
-        assert!(number < 1 << 32 && pieces < 1 << PIECE_BITS, "a team posts fewer than 2³² parts of fewer than 2¹⁶ pieces");
+        assert!(number < 1 << PART_BITS && pieces < 1 << PIECE_BITS, "a team posts fewer than 2²⁴ parts of fewer than 2²⁰ pieces");
         // SAFETY: only the lifetime is erased; see `Posted`.
         let run = unsafe { std::mem::transmute::<*const Part<'_>, *const Part<'static>>(part as *const Part) };
         *self.posted.lock().unwrap_or_else(|e| e.into_inner()) = Posted { part: number, run };
@@ -128,7 +139,7 @@ impl Team {
         let homes = self.homes.len();
         for (m, home) in self.homes.iter().enumerate() {
             let (start, end) = (m * pieces / homes, (m + 1) * pieces / homes);
-            home.store(number << 32 | (start as u64) << PIECE_BITS | end as u64, Ordering::Relaxed);
+            home.0.store(number << PART_SHIFT | (start as u64) << PIECE_BITS | end as u64, Ordering::Relaxed);
         }
         // publishes the part (Release: a member that sees the ticket sees the posted part and
         // its home shares)
@@ -163,12 +174,12 @@ impl Team {
     unsafe fn claim_pieces(&self, number: u64, part: *const Part<'static>, home: usize) {
         let homes = self.homes.len();
         for k in 0..homes {
-            let share = &self.homes[(home + k) % homes];
+            let share = &self.homes[(home + k) % homes].0;
             let own = k == 0;
             let mut cursor = share.load(Ordering::Acquire);
             loop {
                 let (first, end) = ((cursor >> PIECE_BITS) & PIECE_MASK, cursor & PIECE_MASK);
-                if cursor >> 32 != number {
+                if cursor >> PART_SHIFT != number {
                     // a later part is posted: this one's pieces are all claimed
                     return;
                 }
@@ -199,7 +210,8 @@ impl Team {
         if self.owner.get() == Some(&std::thread::current().id()) {
             return;
         }
-        // the caller's home is the first share; the helpers take the others as they join
+        // numbered as the helpers join: the caller, which never helps its own team, holds the
+        // first share
         let home = {
             let mut members = self.members.lock().unwrap_or_else(|e| e.into_inner());
             members.push(std::thread::current());
@@ -358,6 +370,19 @@ mod tests {
         });
         assert_eq!(sum, 3 * 99_999 * 100_000 / 2);
         assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 3));
+    }
+
+    /// A caller whose helpers never join runs every share: its own from the front, then the
+    /// others' from the back, each piece once.
+    #[test]
+    fn the_caller_takes_the_shares_of_members_that_never_join() {
+        let team = Team::new(3);
+        let order = Mutex::new(Vec::new());
+        for _ in 0..2 {
+            order.lock().unwrap().clear();
+            team.run(10, &|i| order.lock().unwrap().push(i));
+            assert_eq!(*order.lock().unwrap(), [0, 1, 2, 5, 4, 3, 9, 8, 7, 6]);
+        }
     }
 
     /// A part posted from inside a piece is refused (it would reset the count the outer part

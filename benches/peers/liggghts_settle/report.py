@@ -15,6 +15,7 @@ import json
 import math
 import os
 import re
+import statistics
 import struct
 import sys
 
@@ -173,6 +174,8 @@ def table(path):
             ("reference / LIGGGHTS, 1 core", ref1, lig1, ""),
         ]
 
+    if not rows:
+        return
     rounds = sorted({r.get("round", 1) for r in rows})
     per_round = [ratios(n) for n in rounds]
     for k, (name, _, _, note) in enumerate(per_round[0]):
@@ -183,9 +186,8 @@ def table(path):
             print(f"{name:<30} {values[0]:7.3f}  {note}")
         else:
             # each round's ratio is taken within the round (the machine drifts between rounds)
-            middle = sorted(values)[len(values) // 2] if len(values) % 2 else sum(sorted(values)[len(values) // 2 - 1 : len(values) // 2 + 1]) / 2
             listed = ", ".join(f"{v:.3f}" for v in values)
-            print(f"{name:<30} {middle:7.3f}  median of {len(values)} rounds ({listed})  {note}")
+            print(f"{name:<30} {statistics.median(values):7.3f}  median of {len(values)} rounds ({listed})  {note}")
     if any(r.get("status", "").startswith("failed") for r in rows):
         print("note: a spillage run failed (see its summary.json)")
     if len({r["substeps"] for r in rows}) > 1:

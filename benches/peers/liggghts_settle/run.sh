@@ -24,10 +24,11 @@
 #   STEPS            outer steps of every run, both codes (default the case's): fewer for a quick
 #                    look; the contacts are still closing early on, so a short run's
 #                    particle-steps/s are higher than a full run's (compare equal lengths only)
-#   ROUNDS           repeat every run this many times, the codes taking turns (default 1), and
-#                    give each ratio's median over the rounds, each round's ratio taken within
-#                    the round: the machine's speed drifts by more than the ratios' differences
-#                    between runs made minutes apart
+#   ROUNDS           repeat every run this many times, the codes taking turns (LIGGGHTS first
+#                    in odd rounds, spillage in even ones; default 1), and give each ratio's
+#                    median over the rounds, each round's ratio taken within the round: the
+#                    machine's speed drifts by more than the ratios' differences between runs
+#                    made minutes apart
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
@@ -134,48 +135,66 @@ if ! [[ "$rounds" =~ ^[1-9][0-9]*$ ]]; then
   echo "run.sh: ROUNDS=$rounds: expected a whole number ≥ 1" >&2
   exit 2
 fi
-for round in $(seq "$rounds"); do
-export ROUND=$round
-suffix=$([ "$rounds" = 1 ] || echo "_r$round")
-for procs in ${LIGGGHTS_PROCS:-1 2}; do
-  dir="$work/liggghts_np$procs$suffix"
-  mkdir -p "$dir"
-  cp "$work/in.settle" "$work/lattice.data" "$dir/"
-  if [ "$procs" = 1 ]; then
-    launch=("$liggghts")
-  elif command -v mpirun >/dev/null 2>&1; then
-    # unbound, as spillage's threads: with other work on the machine a rank pinned to a busy
-    # core cannot move to the idle one
-    launch=(mpirun -np "$procs" --bind-to none "$liggghts")
-  else
-    echo "mpirun not found: LIGGGHTS on $procs processes skipped"
-    continue
-  fi
-  echo "LIGGGHTS on $procs process(es) in $dir"
-  (cd "$dir" && "${launch[@]}" -in in.settle -log log.liggghts > stdout.txt 2>&1) \
-    || { echo "LIGGGHTS failed: tail of $dir/stdout.txt:"; tail -20 "$dir/stdout.txt"; exit 1; }
-  python3 "$here/report.py" liggghts "$dir/log.liggghts" "$dir/final.dump" "$work/params.sh" >> "$results"
-done
+# the case with frames on (the first and the last only; written outside the timed steps) so
+# the end state can be read, and STEPS if given
+spillage_case="$work/$(basename "$case_file")"
+sed -E -e 's/^paraview = false/paraview = true/' \
+  -e "s/^steps = [0-9]+/steps = $outer_steps/" "$case_file" > "$spillage_case"
+if [ ! -x "$bin" ]; then
+  echo "spillage binary $bin not found: LIGGGHTS only (cargo build --release, or set SPILLAGE_BIN)"
+fi
+if ! command -v mpirun >/dev/null 2>&1; then
+  echo "mpirun not found: LIGGGHTS on more than one process skipped"
+fi
 
-if [ -x "$bin" ]; then
-  # the case with frames on (the first and the last only; written outside the timed steps) so
-  # the end state can be read, and STEPS if given
-  spillage_case="$work/$(basename "$case_file")"
-  sed -E -e 's/^paraview = false/paraview = true/' \
-    -e "s/^steps = [0-9]+/steps = $outer_steps/" "$case_file" > "$spillage_case"
+# LIGGGHTS' runs of round $ROUND (directories suffixed $suffix)
+run_liggghts() {
+  for procs in ${LIGGGHTS_PROCS:-1 2}; do
+    local dir="$work/liggghts_np$procs$suffix"
+    if [ "$procs" = 1 ]; then
+      launch=("$liggghts")
+    elif command -v mpirun >/dev/null 2>&1; then
+      # unbound, as spillage's threads: with other work on the machine a rank pinned to a busy
+      # core cannot move to the idle one
+      launch=(mpirun -np "$procs" --bind-to none "$liggghts")
+    else
+      continue
+    fi
+    mkdir -p "$dir"
+    cp "$work/in.settle" "$work/lattice.data" "$dir/"
+    echo "LIGGGHTS on $procs process(es) in $dir"
+    (cd "$dir" && "${launch[@]}" -in in.settle -log log.liggghts > stdout.txt 2>&1) \
+      || { echo "LIGGGHTS failed: tail of $dir/stdout.txt:"; tail -20 "$dir/stdout.txt"; exit 1; }
+    python3 "$here/report.py" liggghts "$dir/log.liggghts" "$dir/final.dump" "$work/params.sh" >> "$results"
+  done
+}
+
+# spillage's runs of round $ROUND
+run_spillage() {
+  [ -x "$bin" ] || return 0
   for run in ${SPILLAGE_RUNS:-fast:1 fast:2 reference:1}; do
-    solver=${run%%:*}
-    threads=${run##*:}
-    out="$work/spillage_${solver}_t$threads$suffix"
+    local solver=${run%%:*} threads=${run##*:}
+    local out="$work/spillage_${solver}_t$threads$suffix"
     echo "spillage --solver $solver --threads $threads in $out"
     "$bin" run "$spillage_case" --solver "$solver" --threads "$threads" --out "$out" --force > "$out.log" 2>&1 \
       || { echo "spillage failed: tail of $out.log:"; tail -20 "$out.log"; exit 1; }
     grep -h '^note:' "$out.log" | sort -u || true
     python3 "$here/report.py" spillage "$out" "$work/params.sh" "$solver" >> "$results"
   done
-elif [ "$round" = 1 ]; then
-  echo "spillage binary $bin not found: LIGGGHTS only (cargo build --release, or set SPILLAGE_BIN)"
-fi
+}
+
+# the codes take turns, and change who goes first every round, so that a drift of the
+# machine's speed within a round favours neither
+for round in $(seq "$rounds"); do
+  export ROUND=$round
+  suffix=$([ "$rounds" = 1 ] || echo "_r$round")
+  if [ $((round % 2)) = 1 ]; then
+    run_liggghts
+    run_spillage
+  else
+    run_spillage
+    run_liggghts
+  fi
 done
 
 echo

@@ -190,20 +190,28 @@ impl BlockWalls<'_> {
     #[inline(always)]
     fn prefetch_ahead(&self, j: usize) {
         let n_walls = self.context.meshes.len();
-        let looked_at = |j: usize| j < self.far.len() && (!self.candidates.pick || self.may_touch[j]);
-        let far = j + 2 * PREFETCH_DISTANCE;
-        if looked_at(far) {
-            prefetch(&self.far[far]);
-            let side: *const WallSide = &self.sides[far];
+        let looked_at = |i: usize| i < self.far.len() && (!self.candidates.pick || self.may_touch[i]);
+        let two_ahead = j + 2 * PREFETCH_DISTANCE;
+        if looked_at(two_ahead) {
+            prefetch(&self.far[two_ahead]);
+            let side: *const WallSide = &self.sides[two_ahead];
             prefetch(side);
             prefetch(side.cast::<u8>().wrapping_add(64));
-            prefetch(&self.near[far * n_walls]);
+            for near in &self.near[two_ahead * n_walls..(two_ahead + 1) * n_walls] {
+                prefetch(near);
+            }
         }
-        let near = j + PREFETCH_DISTANCE;
-        if looked_at(near) {
-            prefetch(self.sides[near].history.as_ptr());
-            for triangles in &self.near[near * n_walls..(near + 1) * n_walls] {
-                prefetch(triangles.triangles.as_ptr());
+        let one_ahead = j + PREFETCH_DISTANCE;
+        if looked_at(one_ahead) {
+            // an empty buffer's pointer is a placeholder: nothing to bring
+            let history = &self.sides[one_ahead].history;
+            if !history.is_empty() {
+                prefetch(history.as_ptr());
+            }
+            for near in &self.near[one_ahead * n_walls..(one_ahead + 1) * n_walls] {
+                if !near.triangles.is_empty() {
+                    prefetch(near.triangles.as_ptr());
+                }
             }
         }
     }
@@ -228,13 +236,16 @@ impl BlockWalls<'_> {
         let near = &mut self.near[j * n_walls..(j + 1) * n_walls];
         let (far, side) = (&mut self.far[j], &mut self.sides[j]);
         let particle = WallParticle { k, position: *position, velocity: *velocity, spin: *spin, properties: *properties };
-        if mark && far.epoch == self.context.epoch && !far.stays_far_while_listed(&built_at[k], self.context.epoch, self.context.skin) {
+        let skin = self.context.skin;
+        let near_where_listed = (position - built_at[k]).norm_squared() <= (0.49 * skin) * (0.49 * skin);
+        if mark && near_where_listed && far.epoch == self.context.epoch && !far.stays_far_while_listed(&built_at[k], self.context.epoch, skin) {
             // found far from every wall before the list was built, and too far from where the
-            // list was built for the mark to last the list's life: looked at afresh from here
-            // (every wall queried again), it is marked far from here and skipped until the
-            // next list, instead of being looked at in every sub-step (in the 10⁴ bed 5.0e6
-            // looks in 1000 sub-steps became 1.6e6, the same bits). A fresh look finds what the
-            // old mark vouched for: no triangle within the radius.
+            // list was built for the mark to last the list's life, while the particle itself is
+            // near there: looked at afresh from here (every wall queried again), it is marked
+            // far from here and skipped until the next list, instead of being looked at in
+            // every sub-step (in the 10⁴ bed 5.0e6 looks in 1000 sub-steps became 1.6e6, the
+            // same bits). A fresh look finds what the old mark vouched for: no triangle within
+            // the radius.
             far.epoch = 0;
             for near in near.iter_mut() {
                 near.generation = 0;
@@ -246,7 +257,7 @@ impl BlockWalls<'_> {
             self.at_wall[j] = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
         }
         if mark {
-            self.may_touch[j] = !far.stays_far_while_listed(&built_at[k], self.context.epoch, self.context.skin);
+            self.may_touch[j] = !far.stays_far_while_listed(&built_at[k], self.context.epoch, skin);
         }
     }
 }
