@@ -171,6 +171,14 @@ pub(super) fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measu
     let reach = ra + rb;
     let overlap = reach - distance;
     let touching = F4::new(|l| if distance.0[l] < reach.0[l] { 1.0 } else { 0.0 });
+    if (0..4).all(|l| touching.0[l] == 0.0 && !touch[l].active()) {
+        // four pairs apart, none touched before: the contact law would be computed for nothing
+        // (the AVX kernel returns here too: pair_lanes_avx.rs)
+        for entry in out.iter_mut().take(4) {
+            entry.touching = false;
+        }
+        return [Lane::Apart; 4];
+    }
 
     let normal = offset.divide(distance);
     let arm_a = normal.scale(ra);
@@ -308,7 +316,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut checked, mut sliding) = ([0usize; 3], 0);
+        let (mut checked, mut sliding, mut groups_apart) = ([0usize; 3], 0, 0);
         for trial in 0..4000 {
             let mut arrays = ParticleArrays::default();
             let mut pairs = Vec::new();
@@ -318,9 +326,12 @@ mod tests {
                 let (ra, rb) = (0.002 + 0.01 * uniform(), 0.002 + 0.01 * uniform());
                 let dir = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5).normalize();
                 // mostly overlaps of up to 3 % of the smaller radius; in one lane of every fifth
-                // group a pair that may be apart and not touched before
-                let apart = l == 3 && trial % 5 == 0;
-                let overlap = ra.min(rb) * (0.03 * uniform() - if apart { 0.02 } else { 0.0 });
+                // group a pair that may be apart and not touched before; every seventh group four
+                // pairs apart by 1–3 % (the kernel returns before the contact law)
+                let all_apart = trial % 7 == 3;
+                let apart = all_apart || (l == 3 && trial % 5 == 0);
+                let u = uniform();
+                let overlap = ra.min(rb) * if all_apart { -0.01 - 0.02 * u } else { 0.03 * u - if apart { 0.02 } else { 0.0 } };
                 let xa = Vec3::new(uniform(), uniform(), uniform());
                 for (r, x) in [(ra, xa), (rb, xa + dir * (ra + rb - overlap))] {
                     arrays.radius.push(r);
@@ -345,9 +356,12 @@ mod tests {
             }
             let before = touch.clone();
             let (mut energy, mut out) = (vec![PairEnergy::default(); 4], vec![PairForce::default(); 4]);
+            // an entry still flagged from the last sub-step is cleared for a pair found apart
+            out.iter_mut().for_each(|o| o.touching = trial % 2 == 0);
             let dt = 1e-5 * (0.5 + uniform());
             let group = FourPairs { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
             let lanes = kernel(group, &arrays, dt, true);
+            groups_apart += lanes.iter().all(|&lane| lane == Lane::Apart) as usize;
             for l in 0..4 {
                 let (a, b) = (2 * l, 2 * l + 1);
                 let offset = arrays.position[b] - arrays.position[a];
@@ -382,8 +396,10 @@ mod tests {
                 }
             }
         }
-        // each outcome is exercised (most lanes stick; about 500 of the 800 possible are apart)
+        // each outcome is exercised (most lanes stick; about 500 of the 800 single lanes that
+        // may be apart are, and the 571 groups of four apart pairs)
         assert!(checked.iter().all(|&n| n > 300), "lanes done / apart / scalar: {checked:?}");
+        assert_eq!(groups_apart, 571, "groups of four pairs apart");
         assert!(sliding > 300 && checked[0] - sliding > 300, "of {} lanes done, {sliding} slide", checked[0]);
     }
 }
