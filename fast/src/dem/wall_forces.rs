@@ -55,11 +55,18 @@ impl FarFromWalls {
     /// [`evaluate_walls`] returns false) for as long as the neighbour list built at `built_at`
     /// lasts and no wall moves: the list lasts while no particle moves more than half the
     /// `skin` from where it was built, so a particle within 0.49 skin of where it was found far
-    /// stays within 0.99 skin of there ([`STILL_WALL_REACH`]; the 0.01 skin between the two is
-    /// far above the round-off of the lengths).
+    /// ([`within_listed_reach`]) stays within 0.99 skin of there ([`STILL_WALL_REACH`]; the 0.01
+    /// skin between the two is far above the round-off of the lengths).
     pub fn stays_far_while_listed(&self, built_at: &Vec3, epoch: u64, skin: f64) -> bool {
-        self.epoch == epoch && (built_at - self.world).norm_squared() <= (0.49 * skin) * (0.49 * skin)
+        self.epoch == epoch && within_listed_reach(built_at, &self.world, skin)
     }
+}
+
+/// Whether `a` lies within 0.49 `skin` of `b`: how far from where its neighbour list was built
+/// a particle's far mark may lie and still last the list's life
+/// ([`FarFromWalls::stays_far_while_listed`]).
+fn within_listed_reach(a: &Vec3, b: &Vec3, skin: f64) -> bool {
+    (a - b).norm_squared() <= (0.49 * skin) * (0.49 * skin)
 }
 
 /// The squared fraction of the skin a particle far from a wall that keeps its pose may move
@@ -237,8 +244,11 @@ impl BlockWalls<'_> {
         let (far, side) = (&mut self.far[j], &mut self.sides[j]);
         let particle = WallParticle { k, position: *position, velocity: *velocity, spin: *spin, properties: *properties };
         let skin = self.context.skin;
-        let near_where_listed = (position - built_at[k]).norm_squared() <= (0.49 * skin) * (0.49 * skin);
-        if mark && near_where_listed && far.epoch == self.context.epoch && !far.stays_far_while_listed(&built_at[k], self.context.epoch, skin) {
+        if mark
+            && within_listed_reach(position, &built_at[k], skin)
+            && far.epoch == self.context.epoch
+            && !far.stays_far_while_listed(&built_at[k], self.context.epoch, skin)
+        {
             // found far from every wall before the list was built, and too far from where the
             // list was built for the mark to last the list's life, while the particle itself is
             // near there: looked at afresh from here (every wall queried again), it is marked
