@@ -32,18 +32,19 @@ fn main() {
     }
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
     pool.install(|| {
-        let mut state = State::default();
-        let fluid = FastFluid::new(&case, spillage::verify::fluid::build_mesh(&case).expect("mesh"), &mut state).expect("fast fluid");
-        let dem = FastDem::new(&case, &mut state).expect("fast DEM");
-        let mut run = Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
-        run.step().expect("step");
-        let t = Instant::now();
-        for _ in 0..steps {
-            let report = run.step().expect("step");
-            if std::env::var_os("PROFILE_COUNTS").is_some() {
-                let c = run.fluid_phase().expect("fluid").last_counts();
-                let outer = report.values.iter().find(|v| v.0 == "outer_iterations").map_or(0.0, |v| v.1);
-                eprintln!(
+        spillage_fast::team::keep_awake(|| {
+            let mut state = State::default();
+            let fluid = FastFluid::new(&case, spillage::verify::fluid::build_mesh(&case).expect("mesh"), &mut state).expect("fast fluid");
+            let dem = FastDem::new(&case, &mut state).expect("fast DEM");
+            let mut run = Coupled::new(&case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
+            run.step().expect("step");
+            let t = Instant::now();
+            for _ in 0..steps {
+                let report = run.step().expect("step");
+                if std::env::var_os("PROFILE_COUNTS").is_some() {
+                    let c = run.fluid_phase().expect("fluid").last_counts();
+                    let outer = report.values.iter().find(|v| v.0 == "outer_iterations").map_or(0.0, |v| v.1);
+                    eprintln!(
                     "outer {outer} pressure solves {} its {} {:?} momentum its {}; amg setup {:.4} s, pressure {:.4} s, momentum {:.4} s, fluid step {:.4} s",
                     c.pressure_solves,
                     c.pressure_iterations,
@@ -54,8 +55,12 @@ fn main() {
                     c.momentum_seconds,
                     c.step_seconds
                 );
+                }
             }
-        }
-        println!("{method}, {threads} threads: {:.4} s per step", t.elapsed().as_secs_f64() / steps as f64);
+            if std::env::var_os("PROFILE_COUNTS").is_some() {
+                eprintln!("pressure levels (rows, off-diagonals, colours): {:?}", run.fluid_phase().expect("fluid").pressure_levels());
+            }
+            println!("{method}, {threads} threads: {:.4} s per step", t.elapsed().as_secs_f64() / steps as f64);
+        })
     });
 }

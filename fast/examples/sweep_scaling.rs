@@ -1,9 +1,10 @@
 //! 1 → 2 thread scaling of one multicolour Gauss–Seidel sweep (f32 5-point grid, the shape of
-//! the multigrid levels of a 2-D case) over grid sizes: the measurement behind the parallel
-//! task size in `fast/src/linear/mod.rs` (issue #6). Prints µs per sweep and ns per row.
+//! the multigrid levels of a 2-D case) over grid sizes, run by a gang of threads as in a solve
+//! (`fast/src/linear/gang.rs`; issue #6). Prints µs per sweep and ns per row.
 //!
 //! usage: cargo run --release -p spillage-fast --example sweep_scaling
 
+use spillage_fast::linear::gang::{self, Slot};
 use spillage_fast::linear::smoother::{inverse_diagonal, sweep, Colouring};
 use spillage_fast::linear::Csr;
 use std::time::Instant;
@@ -32,19 +33,23 @@ fn main() {
         c.build(&a);
         let mut inv = Vec::new();
         inverse_diagonal(&a, &mut inv);
-        let b: Vec<f32> = (0..a.n).map(|i| (i as f32 * 0.1).sin()).collect();
+        let mut b: Vec<f32> = (0..a.n).map(|i| (i as f32 * 0.1).sin()).collect();
+        let partials: Vec<Slot<[f64; 2]>> = (0..gang::partials_for(a.n)).map(|_| Slot::default()).collect();
         let mut line = format!("n {n}² ({} rows):", a.n);
         for t in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
             let mut x = vec![0.0f32; a.n];
             let reps = (400_000_000 / a.n).max(2);
             let best = pool.install(|| {
+                let (b, x) = (Slot::from_mut_slice(&mut b), Slot::from_mut_slice(&mut x));
                 let mut best = f64::INFINITY;
                 for _ in 0..5 {
                     let t0 = Instant::now();
-                    for r in 0..reps / 5 {
-                        sweep(&a, &inv, &c, &b, &mut x, r % 2 == 0);
-                    }
+                    gang::run(a.n, &partials, |crew| {
+                        for r in 0..reps / 5 {
+                            sweep(crew, &a, &inv, &c, b, x, r % 2 == 0);
+                        }
+                    });
                     best = best.min(t0.elapsed().as_secs_f64() / (reps / 5) as f64);
                 }
                 best

@@ -2,25 +2,28 @@
 //! for the non-symmetric momentum equation.
 
 use super::csr::Csr;
+use super::gang::{self, Crew, Slot};
 use super::pcg::normalisation;
-use super::reduce::Reducer;
-use super::{par_update, Out, SolveStats, Tolerance};
+use super::{SolveStats, Tolerance};
 
+/// Work vectors (kept between solves: no allocation once sized), shared by the members of the
+/// gang that runs a solve ([`gang`]).
 #[derive(Clone, Debug, Default)]
 pub struct BiCgStab {
-    r: Vec<f64>,
-    r0: Vec<f64>,
-    p: Vec<f64>,
-    v: Vec<f64>,
-    s: Vec<f64>,
-    t: Vec<f64>,
-    y: Vec<f64>,
-    zs: Vec<f64>,
-    red: Reducer,
+    r: Vec<Slot<f64>>,
+    r0: Vec<Slot<f64>>,
+    p: Vec<Slot<f64>>,
+    v: Vec<Slot<f64>>,
+    s: Vec<Slot<f64>>,
+    t: Vec<Slot<f64>>,
+    y: Vec<Slot<f64>>,
+    zs: Vec<Slot<f64>>,
+    partials: Vec<Slot<[f64; 2]>>,
 }
 
 impl BiCgStab {
-    /// Solves A x = b from the initial guess in `x`, preconditioned by the diagonal of A.
+    /// Solves A x = b from the initial guess in `x`, preconditioned by the diagonal of A, on a
+    /// gang of the current pool's threads.
     ///
     /// The Jacobi preconditioner is applied inside the vector updates, and every product and
     /// update carries the sums that follow it, so an iteration makes six passes over the
@@ -29,83 +32,102 @@ impl BiCgStab {
     pub fn solve(&mut self, a: &Csr, b: &[f64], x: &mut [f64], tol: Tolerance) -> SolveStats {
         let n = a.n;
         for v in [&mut self.r, &mut self.r0, &mut self.p, &mut self.v, &mut self.s, &mut self.t, &mut self.y, &mut self.zs] {
-            v.resize(n, 0.0);
+            v.resize_with(n, Slot::default);
         }
-        let BiCgStab { r, r0, p, v, s, t, y, zs, red } = self;
-        let d = &a.diag;
-        a.multiply(x, t);
-        let norm = normalisation(a, b, x, t, red);
-        par_update(&mut r[..], |i, r| *r = b[i] - t[i]);
-        let mut residual = red.sum(n, |i| r[i].abs()) / norm;
-        let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
-        if residual < tol.tolerance {
-            return stats;
-        }
-        r0.copy_from_slice(r);
-        p.fill(0.0);
-        v.fill(0.0);
-        let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
-        let mut rho_new = red.sum(n, |i| r0[i] * r[i]);
-        while stats.iterations < tol.max_iterations {
-            stats.iterations += 1;
-            if rho_new == 0.0 || !rho_new.is_finite() {
-                break;
-            }
-            let beta = (rho_new / rho) * (alpha / omega);
-            rho = rho_new;
-            // p = r + β(p − ω v) and y = p / diag
-            let (ys, vr) = (Out::of(y), &*v);
-            par_update(&mut p[..], |i, p| {
-                *p = r[i] + beta * (*p - omega * vr[i]);
-                // SAFETY: entry i of y is written by the task that owns entry i of p
-                unsafe { ys.set(i, *p / d[i]) };
-            });
-            let [r0v, _] = a.multiply_sum2(y, v, red, |i, vi| [r0[i] * vi, 0.0]);
-            if r0v == 0.0 || !r0v.is_finite() {
-                break;
-            }
-            alpha = rho / r0v;
-            // s = r − α v, zs = s / diag, and |s|
-            let (ss, zo, vr) = (Out::of(s), Out::of(zs), &*v);
-            let s_res = red.sum(n, |i| {
-                let si = r[i] - alpha * vr[i];
-                // SAFETY: the reduction's chunks visit every entry exactly once
-                unsafe {
-                    ss.set(i, si);
-                    zo.set(i, si / d[i]);
-                }
-                si.abs()
-            }) / norm;
-            if s_res < tol.tolerance {
-                par_update(&mut x[..], |i, x| *x += alpha * y[i]);
-                residual = s_res;
-                break;
-            }
-            let sr = &*s;
-            let [ts, tt] = a.multiply_sum2(zs, t, red, |i, ti| [ti * sr[i], ti * ti]);
-            if tt == 0.0 || !tt.is_finite() {
-                break;
-            }
-            omega = ts / tt;
-            // x += α y + ω zs, r = s − ω t, and |r|, r0·r (the next iteration's ρ)
-            let (xs, ro) = (Out::of(x), Out::of(r));
-            let (yr, zr, tr) = (&*y, &*zs, &*t);
-            let [abs_r, r0r] = red.sum2(n, |i| {
-                // SAFETY: the reduction's chunks visit every entry exactly once
-                unsafe {
-                    *xs.ptr(i) += alpha * yr[i] + omega * zr[i];
-                    let ri = sr[i] - omega * tr[i];
-                    ro.set(i, ri);
-                    [ri.abs(), r0[i] * ri]
-                }
-            });
-            residual = abs_r / norm;
-            rho_new = r0r;
-            if residual < tol.tolerance || omega == 0.0 {
-                break;
-            }
-        }
-        stats.final_residual = residual;
-        stats
+        self.partials.resize_with(gang::partials_for(n), Slot::default);
+        let BiCgStab { r, r0, p, v, s, t, y, zs, partials } = self;
+        let vectors = Vectors { r, r0, p, v, s, t, y, zs };
+        let x = Slot::from_mut_slice(x);
+        gang::run(n, partials, |crew| iterate(crew, a, b, x, &vectors, tol))
     }
+}
+
+/// The work vectors of one solve.
+struct Vectors<'a> {
+    r: &'a [Slot<f64>],
+    r0: &'a [Slot<f64>],
+    p: &'a [Slot<f64>],
+    v: &'a [Slot<f64>],
+    s: &'a [Slot<f64>],
+    t: &'a [Slot<f64>],
+    y: &'a [Slot<f64>],
+    zs: &'a [Slot<f64>],
+}
+
+/// The BiCGStab iterations, run by every member of `crew`.
+//
+// SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
+// or its chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries
+// of vectors no member writes in that loop; the barrier that ends each loop orders its writes
+// before the reads of the loops after it.
+fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: Tolerance) -> SolveStats {
+    let n = a.n;
+    let Vectors { r, r0, p, v, s, t, y, zs } = *w;
+    let at = |v: &[Slot<f64>], i: usize| unsafe { v[i].get() };
+    let d = &a.diag;
+    a.multiply_shared(crew, x, t);
+    let norm = normalisation(crew, a, b, x, t);
+    crew.for_each(n, |i| unsafe { r[i].set(b[i] - at(t, i)) });
+    let mut residual = crew.sum(n, |i| at(r, i).abs()) / norm;
+    let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
+    if residual < tol.tolerance {
+        return stats;
+    }
+    crew.for_each(n, |i| unsafe {
+        r0[i].set(at(r, i));
+        p[i].set(0.0);
+        v[i].set(0.0);
+    });
+    let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
+    let mut rho_new = crew.sum(n, |i| at(r0, i) * at(r, i));
+    while stats.iterations < tol.max_iterations {
+        stats.iterations += 1;
+        if rho_new == 0.0 || !rho_new.is_finite() {
+            break;
+        }
+        let beta = (rho_new / rho) * (alpha / omega);
+        rho = rho_new;
+        // p = r + β(p − ω v) and y = p / diag
+        crew.for_each(n, |i| unsafe {
+            let pi = at(r, i) + beta * (at(p, i) - omega * at(v, i));
+            p[i].set(pi);
+            y[i].set(pi / d[i]);
+        });
+        let [r0v, _] = a.multiply_sum2_shared(crew, y, v, |i, vi| [at(r0, i) * vi, 0.0]);
+        if r0v == 0.0 || !r0v.is_finite() {
+            break;
+        }
+        alpha = rho / r0v;
+        // s = r − α v, zs = s / diag, and |s|
+        let s_res = crew.sum(n, |i| unsafe {
+            let si = at(r, i) - alpha * at(v, i);
+            s[i].set(si);
+            zs[i].set(si / d[i]);
+            si.abs()
+        }) / norm;
+        if s_res < tol.tolerance {
+            crew.for_each(n, |i| unsafe { x[i].set(at(x, i) + alpha * at(y, i)) });
+            residual = s_res;
+            break;
+        }
+        let [ts, tt] = a.multiply_sum2_shared(crew, zs, t, |i, ti| [ti * at(s, i), ti * ti]);
+        if tt == 0.0 || !tt.is_finite() {
+            break;
+        }
+        omega = ts / tt;
+        // x += α y + ω zs, r = s − ω t, and |r|, r0·r (the next iteration's ρ)
+        let [abs_r, r0r] = crew.sum2(n, |i| unsafe {
+            x[i].set(at(x, i) + (alpha * at(y, i) + omega * at(zs, i)));
+            let ri = at(s, i) - omega * at(t, i);
+            r[i].set(ri);
+            [ri.abs(), at(r0, i) * ri]
+        });
+        residual = abs_r / norm;
+        rho_new = r0r;
+        if residual < tol.tolerance || omega == 0.0 {
+            break;
+        }
+    }
+    stats.final_residual = residual;
+    stats
 }

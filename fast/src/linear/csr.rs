@@ -3,8 +3,8 @@
 //! preconditioner's copies, [`super::amg`]). Every kernel computes in f64 whatever the storage;
 //! on f64 data the conversions are the identity, so the bits are those of plain f64 code.
 
-use super::reduce::Reducer;
-use super::{par_update, Out};
+use super::gang::{Crew, Slot};
+use super::par_update;
 
 /// Storage type of matrix and vector entries: f64, or f32 where half the bytes are worth more
 /// than the digits (a preconditioner only has to approximate).
@@ -57,22 +57,43 @@ impl<T: Real> Csr<T> {
         s
     }
 
+    /// [`Csr::row_off_diagonal`] of a vector shared by a gang.
+    ///
+    /// # Safety
+    /// No member writes the entries of `x` that row r reads (the gang's rule).
+    #[inline(always)]
+    pub unsafe fn row_off_diagonal_shared<V: Real>(&self, r: usize, x: &[Slot<V>]) -> f64 {
+        let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
+        let mut s = 0.0;
+        for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
+            s += v.get() * unsafe { x[c as usize].get() }.get();
+        }
+        s
+    }
+
+    /// y = A x, by the members of a gang.
+    pub fn multiply_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>]) {
+        assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
+        // SAFETY: row r of y is written by its block's member only; x is not written
+        crew.for_each(self.n, |r| unsafe { y[r].set(V::put(self.diag[r].get() * x[r].get().get() + self.row_off_diagonal_shared(r, x))) });
+    }
+
+    /// y = A x and, in the same pass, the two sums Σᵢ f(i, yᵢ), by the members of a gang
+    /// (fixed-chunk sums: the same bits on any number of threads).
+    pub fn multiply_sum2_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>], f: impl Fn(usize, f64) -> [f64; 2]) -> [f64; 2] {
+        assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
+        crew.sum2(self.n, |r| {
+            // SAFETY: row r of y is written by the member summing its chunk only; x is not
+            // written
+            let yr = unsafe { V::put(self.diag[r].get() * x[r].get().get() + self.row_off_diagonal_shared(r, x)) };
+            unsafe { y[r].set(yr) };
+            f(r, yr.get())
+        })
+    }
+
     /// y = A x.
     pub fn multiply<V: Real>(&self, x: &[V], y: &mut [V]) {
         par_update(y, |r, y| *y = V::put(self.diag[r].get() * x[r].get() + self.row_off_diagonal(r, x)));
-    }
-
-    /// y = A x and, in the same pass, the two sums Σᵢ f(i, yᵢ) (fixed-chunk reduction: the same
-    /// bits on any number of threads).
-    pub fn multiply_sum2<V: Real>(&self, x: &[V], y: &mut [V], red: &mut Reducer, f: impl Fn(usize, f64) -> [f64; 2] + Sync) -> [f64; 2] {
-        assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
-        let ys = Out::of(y);
-        red.sum2(self.n, |r| {
-            let yr = V::put(self.diag[r].get() * x[r].get() + self.row_off_diagonal(r, x));
-            // SAFETY: r < n; the reduction's chunks visit every row exactly once
-            unsafe { ys.set(r, yr) };
-            f(r, yr.get())
-        })
     }
 
     /// y = (A − D) x.

@@ -4,11 +4,13 @@
 //!
 //! Determinism: every parallel loop writes disjoint outputs computed in a fixed order, and every
 //! reduction sums fixed-size chunks ([`reduce::CHUNK`]) whose partial sums are added in chunk
-//! order, so a solve gives the same bits on 1 or N threads.
+//! order, so a solve gives the same bits on 1 or N threads. Conjugate gradients and the
+//! multigrid run as one gang of threads per solve ([`gang`]); the other loops on rayon.
 
 pub mod amg;
 pub mod bicgstab;
 pub mod csr;
+pub mod gang;
 pub mod pcg;
 pub mod reduce;
 pub mod smoother;
@@ -45,7 +47,7 @@ const PARALLEL_MIN: usize = reduce::CHUNK;
 /// Entries per task of the element-wise parallel loops. Smaller than the reduction chunk: with
 /// 2048-entry tasks some loop lengths split badly between two threads (a red–black sweep of a
 /// 192² grid, 9 tasks per colour, ran 1.14× faster on 2 threads than on 1, against 1.8× with
-/// 512; the multigrid's second level in the 384² lid case has that size), while 512 entries
+/// 512, when the sweeps still ran on rayon rather than in a [`gang`]), while 512 entries
 /// still keep the per-task overhead small (2-thread lid 384² step −6 %, pressure solve −10 %;
 /// 1 thread unchanged). Element-wise loops write disjoint outputs, so the task size does not
 /// change any bits.
@@ -107,16 +109,22 @@ pub struct Tolerance {
     pub max_iterations: usize,
 }
 
-/// z = M⁻¹ r for a preconditioner M of matrix `a`.
-pub trait Preconditioner {
-    fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]);
+/// z = M⁻¹ r for a preconditioner M of matrix `a`, applied by every member of the gang that
+/// runs the solve ([`gang`]).
+pub trait Preconditioner: Sync {
+    /// Adds the bytes its kernels stream to `bytes` (diagnostics).
+    fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], bytes: &mut f64);
+
+    /// Adds a solve's tally of `apply`'s bytes to the preconditioner's own.
+    fn record_bytes(&mut self, _bytes: f64) {}
 }
 
 /// Diagonal (Jacobi) preconditioner.
 pub struct Jacobi;
 
 impl Preconditioner for Jacobi {
-    fn apply(&mut self, a: &Csr, r: &[f64], z: &mut [f64]) {
-        par_update(z, |i, z| *z = r[i] / a.diag[i]);
+    fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], _bytes: &mut f64) {
+        // SAFETY: z[i] is written by its block's member only; r is not written
+        crew.for_each(a.n, |i| unsafe { z[i].set(r[i].get() / a.diag[i]) });
     }
 }

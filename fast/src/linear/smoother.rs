@@ -8,7 +8,8 @@
 //! dependency chain from row to row, and no division (the inverse diagonal is stored).
 
 use super::csr::{Csr, Real};
-use super::{par_range, par_update, Out};
+use super::gang::{Crew, Slot};
+use super::par_update;
 
 /// Rows grouped by colour: colour k holds rows `order[start[k]..start[k + 1]]` (ascending).
 #[derive(Clone, Debug, Default)]
@@ -78,33 +79,40 @@ pub fn inverse_diagonal<T: Real>(a: &Csr<T>, inv: &mut Vec<T>) {
 }
 
 /// One Gauss–Seidel sweep on A x = b in colour order (`forward`) or reverse colour order,
-/// updating x in place.
-pub fn sweep<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], x: &mut [V], forward: bool) {
+/// updating x in place, by the members of a gang.
+pub fn sweep<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>], forward: bool) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
-    let xs = Out::of(x);
     if forward {
-        colour_passes(a, inv_diag, colouring, b, xs, 0..n_colours);
+        colour_passes(crew, a, inv_diag, colouring, b, x, 0..n_colours);
     } else {
-        colour_passes(a, inv_diag, colouring, b, xs, (0..n_colours).rev());
+        colour_passes(crew, a, inv_diag, colouring, b, x, (0..n_colours).rev());
     }
 }
 
-/// The Gauss–Seidel update of the rows of each colour in `colours`, one colour after the other.
-fn colour_passes<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], xs: Out<V>, colours: impl Iterator<Item = usize>) {
+/// The Gauss–Seidel update of the rows of each colour in `colours`, one colour after the other
+/// (a barrier between two colours).
+fn colour_passes<T: Real, V: Real>(
+    crew: &Crew,
+    a: &Csr<T>,
+    inv_diag: &[T],
+    colouring: &Colouring,
+    b: &[Slot<V>],
+    x: &[Slot<V>],
+    colours: impl Iterator<Item = usize>,
+) {
     for k in colours {
         let rows = &colouring.order[colouring.start[k] as usize..colouring.start[k + 1] as usize];
-        par_range(rows.len(), |i| {
+        crew.for_each(rows.len(), |i| {
             let r = rows[i] as usize;
+            // SAFETY: rows of this colour are written by their block's member only and do not
+            // read each other; rows of the other colours are not written during this pass
             let (lo, hi) = (a.row_start[r] as usize, a.row_start[r + 1] as usize);
-            let mut s = b[r].get();
+            let mut s = unsafe { b[r].get() }.get();
             for (&c, &v) in a.col[lo..hi].iter().zip(&a.val[lo..hi]) {
-                // SAFETY: c < n (a column of `a`); rows of another colour are not written
-                // during this colour's pass, so the read does not race with a write
-                s -= v.get() * unsafe { *xs.ptr(c as usize) }.get();
+                s -= v.get() * unsafe { x[c as usize].get() }.get();
             }
-            // SAFETY: r < n and row r is written by this task only
-            unsafe { xs.set(r, V::put(s * inv_diag[r].get())) };
+            unsafe { x[r].set(V::put(s * inv_diag[r].get())) };
         });
     }
 }
@@ -112,20 +120,22 @@ fn colour_passes<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colou
 /// Forward sweep from x = 0. The first colour's neighbours are all still zero, so its rows are
 /// x = b / diag without reading the matrix (the same bits as the full sweep: b − Σ a·0 = b), and
 /// only the rows of the third and later colours need zeroing before the later colours read them.
-pub fn sweep_from_zero<T: Real, V: Real>(a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[V], x: &mut [V]) {
+pub fn sweep_from_zero<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>]) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
-    let xs = Out::of(x);
     let rows_from = |k: usize| &colouring.order[colouring.start[k.min(n_colours)] as usize..];
     let later = rows_from(2);
-    // SAFETY (both loops): every row index is < n and appears once in the colour order
-    par_range(later.len(), |i| unsafe { xs.set(later[i] as usize, V::default()) });
+    // SAFETY (both loops): every row index is < n and appears once in the colour order, so
+    // each is written by one member; the two loops touch different rows (no barrier between)
+    for i in crew.block(later.len()) {
+        unsafe { x[later[i] as usize].set(V::default()) };
+    }
     let first = &colouring.order[..colouring.start[1.min(n_colours)] as usize];
-    par_range(first.len(), |i| {
+    crew.for_each(first.len(), |i| {
         let r = first[i] as usize;
-        unsafe { xs.set(r, V::put(b[r].get() * inv_diag[r].get())) };
+        unsafe { x[r].set(V::put(b[r].get().get() * inv_diag[r].get())) };
     });
-    colour_passes(a, inv_diag, colouring, b, xs, 1..n_colours);
+    colour_passes(crew, a, inv_diag, colouring, b, x, 1..n_colours);
 }
 
 #[cfg(test)]
@@ -163,8 +173,13 @@ mod tests {
         let mut inv = Vec::new();
         inverse_diagonal(&a, &mut inv);
         let mut x = vec![0.0; n];
-        sweep_from_zero(&a, &inv, &colouring, &b, &mut x);
-        sweep(&a, &inv, &colouring, &b, &mut x, false);
+        let mut b_shared = b.clone();
+        let partials: Vec<Slot<[f64; 2]>> = (0..crate::linear::gang::partials_for(n)).map(|_| Slot::default()).collect();
+        let (bs, xs) = (Slot::from_mut_slice(&mut b_shared), Slot::from_mut_slice(&mut x));
+        crate::linear::gang::run(n, &partials, |crew| {
+            sweep_from_zero(crew, &a, &inv, &colouring, bs, xs);
+            sweep(crew, &a, &inv, &colouring, bs, xs, false);
+        });
         // sequential Gauss–Seidel visiting the rows in colour order, then in reverse
         let mut y = vec![0.0; n];
         let mut visit: Vec<usize> = colouring.order.iter().map(|&r| r as usize).collect();

@@ -2,6 +2,10 @@
 //! aggregation, the coarse sparsity pattern and values of Aᶜ = PᵀAP, and the dense Cholesky
 //! factor of the coarsest matrix.
 
+use rayon::prelude::*;
+
+use super::super::reduce::CHUNK;
+use super::super::Out;
 use super::*;
 
 /// Greedy pairwise aggregation in row order: each unaggregated row pairs with its strongest

@@ -15,8 +15,10 @@
 //! The aggregation and the colourings are sequential and in index order (deterministic). When a
 //! matrix has the sparsity pattern of the previous setup, they are kept and only the values are
 //! recomputed (inverse diagonals and coarse matrices through a precomputed fine-entry →
-//! coarse-entry map), which is cheap enough to do for every solve. Everything else runs on
-//! rayon with thread-count-independent results (fixed-chunk reductions, multicolour sweeps).
+//! coarse-entry map), which is cheap enough to do for every solve. The setup's other loops run
+//! on rayon; the cycle runs on the gang of threads of the solve that applies it
+//! ([`super::gang`]), its results independent of the thread count (fixed-chunk reductions,
+//! multicolour sweeps).
 //!
 //! The hierarchy is stored in f32: an f32 copy of the fine matrix, and f32 coarse matrices and
 //! coarse vectors; the kernels compute in f64 and level 0 reads and writes CG's f64 vectors. A
@@ -25,12 +27,11 @@
 //! same iteration counts, while the cycle moves about a third fewer bytes (lid-driven cavity
 //! 384², 2 threads: 1.68 → 1.45 µs per cell-step).
 
-use rayon::prelude::*;
-
 use super::csr::{Csr, Real};
-use super::reduce::{Reducer, CHUNK};
+use super::gang::{Crew, Slot};
+use super::par_update;
 use super::smoother::{inverse_diagonal, sweep, sweep_from_zero, Colouring};
-use super::{par_range, par_update, Out, Preconditioner};
+use super::Preconditioner;
 
 mod coarsening;
 use coarsening::{cholesky, coarse_pattern, coarse_values, galerkin, members, pairwise};
@@ -101,13 +102,13 @@ struct Smoother {
 /// vectors (two preconditioned directions, their images, the updated residual).
 #[derive(Clone, Debug, Default)]
 struct LevelWork {
-    bc: Vec<f32>,
-    xc: Vec<f32>,
-    v1: Vec<f32>,
-    v2: Vec<f32>,
-    w1: Vec<f32>,
-    w2: Vec<f32>,
-    rt: Vec<f32>,
+    bc: Vec<Slot<f32>>,
+    xc: Vec<Slot<f32>>,
+    v1: Vec<Slot<f32>>,
+    v2: Vec<Slot<f32>>,
+    w1: Vec<Slot<f32>>,
+    w2: Vec<Slot<f32>>,
+    rt: Vec<Slot<f32>>,
 }
 
 /// Dense Cholesky factor L (row-major, lower) of the coarsest matrix.
@@ -140,7 +141,8 @@ pub struct Amg {
     /// Sparsity pattern of the finest matrix of the last setup.
     pattern_rows: Vec<u32>,
     pattern_cols: Vec<u32>,
-    ctx: Ctx,
+    /// Bytes the executed kernels stream (see [`Amg::bytes_streamed`]).
+    bytes: f64,
 }
 
 impl Amg {
@@ -214,7 +216,7 @@ impl Amg {
             let nc = self.coarse[k].n;
             let w = &mut self.work[k];
             for v in [&mut w.bc, &mut w.xc, &mut w.v1, &mut w.v2, &mut w.w1, &mut w.w2, &mut w.rt] {
-                v.resize(nc, 0.0);
+                v.resize_with(nc, Slot::default);
             }
         }
         self.finish_values();
@@ -264,7 +266,7 @@ impl Amg {
     /// gathered x entries within a pass and none between passes — what a bandwidth-bound
     /// implementation must move.
     pub fn bytes_streamed(&self) -> f64 {
-        self.ctx.bytes
+        self.bytes
     }
 
     pub fn levels(&self) -> usize {
@@ -274,10 +276,14 @@ impl Amg {
 
 impl Preconditioner for Amg {
     /// One cycle on the hierarchy of the last [`Amg::setup`], whose matrix `_a` must be.
-    fn apply(&mut self, _a: &Csr, r: &[f64], z: &mut [f64]) {
-        let Amg { transfers, fine, coarse, smoothers, work, dense, coarsest_smoother, ctx, .. } = self;
+    fn apply(&self, crew: &Crew, _a: &Csr, r: &[Slot<f64>], z: &[Slot<f64>], bytes: &mut f64) {
+        let Amg { transfers, fine, coarse, smoothers, work, dense, coarsest_smoother, .. } = self;
         let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother };
-        cycle(fine, r, z, &levels, 0, work, ctx);
+        cycle(crew, fine, r, z, &levels, 0, work, bytes);
+    }
+
+    fn record_bytes(&mut self, bytes: f64) {
+        self.bytes += bytes;
     }
 }
 
@@ -288,15 +294,6 @@ fn single_precision_values(a: &Csr, out: &mut Csr<f32>) {
     let (val, diag) = (&a.val, &a.diag);
     par_update(&mut out.val[..], |k, v| *v = val[k] as f32);
     par_update(&mut out.diag[..], |i, d| *d = diag[i] as f32);
-}
-
-/// Mutable state threaded through the cycle: the reduction buffer and the byte tally.
-#[derive(Clone, Debug, Default)]
-struct Ctx {
-    red: Reducer,
-    /// Bytes the executed kernels stream (each array a kernel touches counted once per pass:
-    /// the compulsory traffic, see [`Amg::bytes_streamed`]).
-    bytes: f64,
 }
 
 /// Bytes of one entry of `T`.
@@ -325,78 +322,80 @@ struct Levels<'a> {
 }
 
 /// Exact (dense) or approximate (two symmetric sweeps, when coarsening stalled) coarsest solve.
-fn coarsest<V: Real>(a: &Csr<f32>, b: &[V], x: &mut [V], levels: &Levels, ctx: &mut Ctx) {
+fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, bytes: &mut f64) {
     match levels.dense {
         Some(d) => {
-            ctx.bytes += 8.0 * (d.n * d.n) as f64 + 2.0 * size::<V>() * d.n as f64;
-            let mut bd = [0.0; DENSE_LIMIT];
-            let mut xd = [0.0; DENSE_LIMIT];
-            for (bd, b) in bd.iter_mut().zip(b) {
-                *bd = b.get();
-            }
-            d.solve(&bd[..d.n], &mut xd[..d.n]);
-            for (x, xd) in x.iter_mut().zip(&xd) {
-                *x = V::put(*xd);
-            }
+            *bytes += 8.0 * (d.n * d.n) as f64 + 2.0 * size::<V>() * d.n as f64;
+            crew.alone(|| {
+                let mut bd = [0.0; DENSE_LIMIT];
+                let mut xd = [0.0; DENSE_LIMIT];
+                // SAFETY: b was written before the last barrier; x is written by this member
+                // alone, read by the others after the barrier of `alone`
+                for (bd, b) in bd.iter_mut().zip(b) {
+                    *bd = unsafe { b.get() }.get();
+                }
+                d.solve(&bd[..d.n], &mut xd[..d.n]);
+                for (x, xd) in x.iter().zip(&xd) {
+                    unsafe { x.set(V::put(*xd)) };
+                }
+            });
         }
         None => {
             let s = levels.coarsest;
-            ctx.bytes += 4.0 * sweep_bytes::<f32, V>(a);
-            sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
+            *bytes += 4.0 * sweep_bytes::<f32, V>(a);
+            sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x);
             for forward in [false, true, false] {
-                sweep(a, &s.inv_diag, &s.colouring, b, x, forward);
+                sweep(crew, a, &s.inv_diag, &s.colouring, b, x, forward);
             }
         }
     }
 }
 
-/// x = B b, one cycle from x = 0 on level `k` (matrix `a`). Level 0 works on the f64 vectors of
-/// CG (`V` = f64) with the f32 matrix copy; the coarse levels on f32 vectors. Every kernel
-/// computes in f64.
-fn cycle<V: Real>(a: &Csr<f32>, b: &[V], x: &mut [V], levels: &Levels, k: usize, work: &mut [LevelWork], ctx: &mut Ctx) {
+/// x = B b, one cycle from x = 0 on level `k` (matrix `a`), by the members of a gang. Level 0
+/// works on the f64 vectors of CG (`V` = f64) with the f32 matrix copy; the coarse levels on f32
+/// vectors. Every kernel computes in f64.
+#[allow(clippy::too_many_arguments)]
+fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, k: usize, work: &[LevelWork], bytes: &mut f64) {
     if k == levels.transfers.len() {
-        coarsest(a, b, x, levels, ctx);
+        coarsest(crew, a, b, x, levels, bytes);
         return;
     }
     let t = &levels.transfers[k];
     let s = &levels.smoothers[k];
     let ac = &levels.coarse[k];
-    ctx.bytes += cycle_bytes::<V>(a, t, s, ac.n);
-    let (w, rest) = work.split_first_mut().expect("one work set per transfer");
-    sweep_from_zero(a, &s.inv_diag, &s.colouring, b, x);
+    *bytes += cycle_bytes::<V>(a, t, s, ac.n);
+    let (w, rest) = work.split_first().expect("one work set per transfer");
+    sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x);
     // restricted residual bc = Pᵀ(b − A x), fused (no fine residual vector)
-    {
-        let x = &*x;
-        par_update(&mut w.bc[..], |c, bc| {
-            let mut sum = 0.0;
-            for &i in &t.residual_members[t.residual_start[c] as usize..t.residual_start[c + 1] as usize] {
-                let i = i as usize;
-                sum += b[i].get() - a.diag[i].get() * x[i].get() - a.row_off_diagonal(i, x);
-            }
-            *bc = sum as f32;
-        });
-    }
+    crew.for_each(w.bc.len(), |c| {
+        let mut sum = 0.0;
+        for &i in &t.residual_members[t.residual_start[c] as usize..t.residual_start[c + 1] as usize] {
+            let i = i as usize;
+            // SAFETY: b and x are not written in this loop; bc[c] by its block's member only
+            sum += unsafe { b[i].get().get() - a.diag[i].get() * x[i].get().get() - a.row_off_diagonal_shared(i, x) };
+        }
+        unsafe { w.bc[c].set(sum as f32) };
+    });
     if k + 1 == levels.transfers.len() {
-        coarsest(ac, &w.bc, &mut w.xc, levels, ctx);
+        coarsest(crew, ac, &w.bc, &w.xc, levels, bytes);
     } else if ac.n * KCYCLE_MIN_RATIO <= a.n && ac.n >= KCYCLE_MIN_ROWS {
-        k_cycle_correction(ac, w, levels, k + 1, rest, ctx);
+        k_cycle_correction(crew, ac, w, levels, k + 1, rest, bytes);
     } else {
         // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit, or
         // the K-cycle's two visits per level would multiply without the work shrinking
-        cycle(ac, &w.bc, &mut w.xc, levels, k + 1, rest, ctx);
+        cycle(crew, ac, &w.bc, &w.xc, levels, k + 1, rest, bytes);
     }
     // prolongation; the backward sweep starts with the last colour and overwrites those rows
     // from their (corrected) neighbours alone, so they are not corrected here
     let xc = &w.xc;
     let corrected = &s.colouring.order[..s.colouring.start[s.colouring.colours().saturating_sub(1)] as usize];
-    let xs = Out::of(x);
-    // SAFETY: every row appears once in the colour order
-    par_range(corrected.len(), |m| unsafe {
+    crew.for_each(corrected.len(), |m| {
         let i = corrected[m] as usize;
-        let p = xs.ptr(i);
-        *p = V::put((*p).get() + xc[t.agg[i] as usize] as f64);
+        // SAFETY: every row appears once in the colour order, so x[i] has one writer; xc is
+        // not written in this loop
+        unsafe { x[i].set(V::put(x[i].get().get() + xc[t.agg[i] as usize].get() as f64)) };
     });
-    sweep(a, &s.inv_diag, &s.colouring, b, x, false);
+    sweep(crew, a, &s.inv_diag, &s.colouring, b, x, false);
 }
 
 /// Bytes one visit of [`cycle`] streams on a level of `a.n` rows above one of `nc`: the
@@ -417,40 +416,43 @@ fn cycle_bytes<V: Real>(a: &Csr<f32>, t: &Transfer, s: &Smoother, nc: usize) -> 
 
 /// Coarse correction xc ≈ Aᶜ⁻¹ bc on level `k` by at most two flexible-CG steps preconditioned
 /// with the next cycle (Notay & Vassilevski 2008, Algorithm 3.1 with t = [`KCYCLE_SKIP`]).
-fn k_cycle_correction(ac: &Csr<f32>, w: &mut LevelWork, levels: &Levels, k: usize, rest: &mut [LevelWork], ctx: &mut Ctx) {
+//
+// SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
+// or its chunk's in a sum) of a vector it does not read elsewhere; vectors written by one loop
+// are read by later loops, after the barrier that ends it.
+fn k_cycle_correction(crew: &Crew, ac: &Csr<f32>, w: &LevelWork, levels: &Levels, k: usize, rest: &[LevelWork], bytes: &mut f64) {
     let n = ac.n;
     let LevelWork { bc, xc, v1, v2, w1, w2, rt } = w;
-    cycle(ac, bc, v1, levels, k, rest, ctx);
-    let red = &mut ctx.red;
+    let at = |v: &[Slot<f32>], i: usize| unsafe { v[i].get() } as f64;
+    cycle(crew, ac, bc, v1, levels, k, rest, bytes);
     let nf = n as f64;
     // product with two sums, two sums, residual update (f32 vectors)
-    ctx.bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
-    let [rho1, alpha1] = ac.multiply_sum2(v1, w1, red, |i, w| [v1[i] as f64 * w, v1[i] as f64 * bc[i] as f64]);
+    *bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
+    let [rho1, alpha1] = ac.multiply_sum2_shared(crew, v1, w1, |i, w| [at(v1, i) * w, at(v1, i) * at(bc, i)]);
     if rho1 <= 0.0 || !rho1.is_finite() {
-        xc.fill(0.0);
+        crew.for_each(n, |i| unsafe { xc[i].set(0.0) });
         return;
     }
     let a1 = alpha1 / rho1;
-    par_update(&mut rt[..], |i, r| *r = (bc[i] as f64 - a1 * w1[i] as f64) as f32);
-    let [rt2, bc2] = red.sum2(n, |i| [rt[i] as f64 * rt[i] as f64, bc[i] as f64 * bc[i] as f64]);
+    crew.for_each(n, |i| unsafe { rt[i].set((at(bc, i) - a1 * at(w1, i)) as f32) });
+    let [rt2, bc2] = crew.sum2(n, |i| [at(rt, i) * at(rt, i), at(bc, i) * at(bc, i)]);
     if rt2 <= KCYCLE_SKIP * KCYCLE_SKIP * bc2 {
-        ctx.bytes += 8.0 * nf;
-        par_update(&mut xc[..], |i, x| *x = (a1 * v1[i] as f64) as f32);
+        *bytes += 8.0 * nf;
+        crew.for_each(n, |i| unsafe { xc[i].set((a1 * at(v1, i)) as f32) });
         return;
     }
-    cycle(ac, rt, v2, levels, k, rest, ctx);
-    let red = &mut ctx.red;
+    cycle(crew, ac, rt, v2, levels, k, rest, bytes);
     // product with two sums, a sum, combination
-    ctx.bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
-    let [gamma, beta] = ac.multiply_sum2(v2, w2, red, |i, w| [v2[i] as f64 * w1[i] as f64, v2[i] as f64 * w]);
-    let alpha2 = red.sum(n, |i| v2[i] as f64 * rt[i] as f64);
+    *bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
+    let [gamma, beta] = ac.multiply_sum2_shared(crew, v2, w2, |i, w| [at(v2, i) * at(w1, i), at(v2, i) * w]);
+    let alpha2 = crew.sum(n, |i| at(v2, i) * at(rt, i));
     let rho2 = beta - gamma * gamma / rho1;
     if rho2 <= 0.0 || !rho2.is_finite() {
-        par_update(&mut xc[..], |i, x| *x = (a1 * v1[i] as f64) as f32);
+        crew.for_each(n, |i| unsafe { xc[i].set((a1 * at(v1, i)) as f32) });
         return;
     }
     let (c1, c2) = (a1 - gamma * alpha2 / (rho1 * rho2), alpha2 / rho2);
-    par_update(&mut xc[..], |i, x| *x = (c1 * v1[i] as f64 + c2 * v2[i] as f64) as f32);
+    crew.for_each(n, |i| unsafe { xc[i].set((c1 * at(v1, i) + c2 * at(v2, i)) as f32) });
 }
 
 #[cfg(test)]
