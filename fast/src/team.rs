@@ -9,8 +9,9 @@
 //! A [`Team`] instead keeps the pool's other workers spinning on a shared ticket, and each part
 //! is split into pieces that any member claims (the caller too), so a piece starts within a
 //! spin of being posted. While spinning, the members also take the pool's other work (rayon's
-//! parallel iterators, [`crate::linear::par_update`]) as soon as it is queued: [`keep_awake`]
-//! holds a team for a whole run for that alone.
+//! parallel iterators, [`crate::linear::par_update`], the gangs of the linear solves,
+//! [`crate::linear::gang`]) as soon as it is queued: [`keep_awake`] holds a team for a whole run
+//! for that alone.
 //!
 //! Each member has a home share of every part's pieces, the same share of consecutive pieces
 //! in every part of the team (the caller the first, the helpers the next ones in the order they
@@ -241,7 +242,7 @@ impl Team {
                 continue;
             }
             spins = 0;
-            // the pool's other work (a neighbour-list build, the fluid's loops) is taken as it
+            // the pool's other work (a neighbour-list build, the fluid's loops and solves) is taken as it
             // comes; with none, the core is offered to the system (a pool with more threads than
             // cores must not starve the thread that posts the parts)
             if rayon::yield_now() == Some(rayon::Yield::Executed) {

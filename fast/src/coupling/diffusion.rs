@@ -23,16 +23,18 @@
 //! fields agree to that relative size, times the matrix's mild conditioning (it is the mass
 //! matrix plus a Laplacian).
 
-use rayon::prelude::*;
-
 use spillage_model::coupling::diffusion::{Diffusion, TOLERANCE};
+
+use rayon::prelude::*;
 
 use crate::linear::amg::Amg;
 use crate::linear::pcg::Pcg;
 use crate::linear::reduce::Reducer;
 use crate::linear::{par_update, Csr, Tolerance};
 
-/// Smooths each of `fields` in place (a [`spillage_model::coupling::Smoother`]).
+/// Smooths each of `fields` in place (a [`spillage_model::coupling::Smoother`]), the fields side
+/// by side, each solve on the thread that takes its field: a gang per solve
+/// ([`crate::linear::gang`]) would wait for threads busy with the other fields' solves.
 pub fn smooth_in_parallel(diffusion: &Diffusion, fields: &mut [Vec<f64>]) {
     let a = matrix(diffusion);
     let volume = diffusion.volumes();
@@ -40,7 +42,7 @@ pub fn smooth_in_parallel(diffusion: &Diffusion, fields: &mut [Vec<f64>]) {
     amg.setup(&a);
     // one copy of the hierarchy per field (its work arrays), so no field's solve depends on
     // which other field ran before it on the same thread
-    fields.par_iter_mut().for_each(|field| smooth(&a, volume, field, &mut amg.clone()));
+    fields.par_iter_mut().for_each(|field| smooth(&a, volume, field, &mut amg.clone(), &mut Pcg::default().on_the_calling_thread()));
 }
 
 /// The operator in compressed rows: the reference's diagonal, and −T·D·|S_f|/|d_f| at (P, N)
@@ -73,7 +75,7 @@ pub fn matrix(diffusion: &Diffusion) -> Csr {
 /// One field: V q⁰ as the right-hand side, the field as the first guess, CG to [`TOLERANCE`]
 /// (in the fast solver's normalised residual, which for this matrix is of the size of the
 /// reference's relative one), then the residual folded back.
-fn smooth(a: &Csr, volume: &[f64], field: &mut [f64], amg: &mut Amg) {
+fn smooth(a: &Csr, volume: &[f64], field: &mut [f64], amg: &mut Amg, pcg: &mut Pcg) {
     let n = a.n;
     let mut red = Reducer::default();
     let mut b = vec![0.0; n];
@@ -85,7 +87,7 @@ fn smooth(a: &Csr, volume: &[f64], field: &mut [f64], amg: &mut Amg) {
     // one order below the reference's tolerance: its residual measure is an L1 norm over a
     // normalisation that can exceed ‖b‖, so this makes the fast solve at least as tight
     let tolerance = Tolerance { tolerance: 0.1 * TOLERANCE, max_iterations: 10 * n + 100 };
-    Pcg::default().solve(a, &b, &mut x, amg, tolerance);
+    pcg.solve(a, &b, &mut x, amg, tolerance);
     // fold the final residual back: Σ V q = Σ b to round-off
     let mut ax = vec![0.0; n];
     a.multiply(&x, &mut ax);

@@ -3,7 +3,7 @@
 
 use super::csr::Csr;
 use super::gang::{self, Crew, Slot};
-use super::pcg::normalisation;
+use super::pcg::initial_residual;
 use super::{SolveStats, Tolerance};
 
 /// Work vectors (kept between solves: no allocation once sized), shared by the members of the
@@ -34,11 +34,12 @@ impl BiCgStab {
         for v in [&mut self.r, &mut self.r0, &mut self.p, &mut self.v, &mut self.s, &mut self.t, &mut self.y, &mut self.zs] {
             v.resize_with(n, Slot::default);
         }
-        self.partials.resize_with(gang::partials_for(n), Slot::default);
         let BiCgStab { r, r0, p, v, s, t, y, zs, partials } = self;
         let vectors = Vectors { r, r0, p, v, s, t, y, zs };
         let x = Slot::from_mut_slice(x);
-        gang::run(n, partials, |crew| iterate(crew, a, b, x, &vectors, tol))
+        // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
+        // every member runs `iterate` whole
+        gang::run(n, partials, |crew| unsafe { iterate(crew, a, b, x, &vectors, tol) })
     }
 }
 
@@ -55,20 +56,20 @@ struct Vectors<'a> {
 }
 
 /// The BiCGStab iterations, run by every member of `crew`.
+///
+/// # Safety
+/// Every member of `crew` runs it whole, with vectors no other gang uses.
 //
 // SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
 // or its chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries
 // of vectors no member writes in that loop; the barrier that ends each loop orders its writes
 // before the reads of the loops after it.
-fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: Tolerance) -> SolveStats {
+unsafe fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: Tolerance) -> SolveStats {
     let n = a.n;
     let Vectors { r, r0, p, v, s, t, y, zs } = *w;
     let at = |v: &[Slot<f64>], i: usize| unsafe { v[i].get() };
     let d = &a.diag;
-    a.multiply_shared(crew, x, t);
-    let norm = normalisation(crew, a, b, x, t);
-    crew.for_each(n, |i| unsafe { r[i].set(b[i] - at(t, i)) });
-    let mut residual = crew.sum(n, |i| at(r, i).abs()) / norm;
+    let (norm, mut residual) = unsafe { initial_residual(crew, a, b, x, t, r) };
     let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
     if residual < tol.tolerance {
         return stats;
@@ -93,7 +94,7 @@ fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: T
             p[i].set(pi);
             y[i].set(pi / d[i]);
         });
-        let [r0v, _] = a.multiply_sum2_shared(crew, y, v, |i, vi| [at(r0, i) * vi, 0.0]);
+        let [r0v, _] = unsafe { a.multiply_sum2_shared(crew, y, v, |i, vi| [at(r0, i) * vi, 0.0]) };
         if r0v == 0.0 || !r0v.is_finite() {
             break;
         }
@@ -110,7 +111,7 @@ fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: T
             residual = s_res;
             break;
         }
-        let [ts, tt] = a.multiply_sum2_shared(crew, zs, t, |i, ti| [ti * at(s, i), ti * ti]);
+        let [ts, tt] = unsafe { a.multiply_sum2_shared(crew, zs, t, |i, ti| [ti * at(s, i), ti * ti]) };
         if tt == 0.0 || !tt.is_finite() {
             break;
         }

@@ -46,15 +46,21 @@ pub struct Csr<T = f64> {
 }
 
 impl<T: Real> Csr<T> {
-    /// Σ_j a_rj x_j over the off-diagonal entries of row r.
+    /// Σ_j a_rj x_j over the off-diagonal entries of row r, x_j read by `x_at(j)`.
     #[inline(always)]
-    pub fn row_off_diagonal<V: Real>(&self, r: usize, x: &[V]) -> f64 {
+    fn row_off_diagonal_with(&self, r: usize, x_at: impl Fn(usize) -> f64) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
         let mut s = 0.0;
         for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
-            s += v.get() * x[c as usize].get();
+            s += v.get() * x_at(c as usize);
         }
         s
+    }
+
+    /// Σ_j a_rj x_j over the off-diagonal entries of row r.
+    #[inline(always)]
+    pub fn row_off_diagonal<V: Real>(&self, r: usize, x: &[V]) -> f64 {
+        self.row_off_diagonal_with(r, |c| x[c].get())
     }
 
     /// [`Csr::row_off_diagonal`] of a vector shared by a gang.
@@ -63,29 +69,42 @@ impl<T: Real> Csr<T> {
     /// No member writes the entries of `x` that row r reads (the gang's rule).
     #[inline(always)]
     pub unsafe fn row_off_diagonal_shared<V: Real>(&self, r: usize, x: &[Slot<V>]) -> f64 {
-        let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
-        let mut s = 0.0;
-        for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
-            s += v.get() * unsafe { x[c as usize].get() }.get();
-        }
-        s
+        self.row_off_diagonal_with(r, |c| unsafe { x[c].get() }.get())
+    }
+
+    /// (A x)_r of a vector shared by a gang.
+    ///
+    /// # Safety
+    /// As [`Csr::row_off_diagonal_shared`], and for x_r.
+    #[inline(always)]
+    unsafe fn row_product_shared<V: Real>(&self, r: usize, x: &[Slot<V>]) -> V {
+        V::put(self.diag[r].get() * unsafe { x[r].get() }.get() + unsafe { self.row_off_diagonal_shared(r, x) })
     }
 
     /// y = A x, by the members of a gang.
-    pub fn multiply_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>]) {
+    ///
+    /// # Safety
+    /// Every member of `crew` calls it with the same vectors, which no other gang uses, and
+    /// `y` is not `x`.
+    pub unsafe fn multiply_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>]) {
         assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
+        debug_assert!(!std::ptr::eq(x.as_ptr(), y.as_ptr()), "multiply: y is not x");
         // SAFETY: row r of y is written by its block's member only; x is not written
-        crew.for_each(self.n, |r| unsafe { y[r].set(V::put(self.diag[r].get() * x[r].get().get() + self.row_off_diagonal_shared(r, x))) });
+        crew.for_each(self.n, |r| unsafe { y[r].set(self.row_product_shared(r, x)) });
     }
 
     /// y = A x and, in the same pass, the two sums Σᵢ f(i, yᵢ), by the members of a gang
     /// (fixed-chunk sums: the same bits on any number of threads).
-    pub fn multiply_sum2_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>], f: impl Fn(usize, f64) -> [f64; 2]) -> [f64; 2] {
+    ///
+    /// # Safety
+    /// As [`Csr::multiply_shared`]; `f` reads no entry of `y` but its own.
+    pub unsafe fn multiply_sum2_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>], f: impl Fn(usize, f64) -> [f64; 2]) -> [f64; 2] {
         assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
+        debug_assert!(!std::ptr::eq(x.as_ptr(), y.as_ptr()), "multiply: y is not x");
         crew.sum2(self.n, |r| {
             // SAFETY: row r of y is written by the member summing its chunk only; x is not
             // written
-            let yr = unsafe { V::put(self.diag[r].get() * x[r].get().get() + self.row_off_diagonal_shared(r, x)) };
+            let yr = unsafe { self.row_product_shared(r, x) };
             unsafe { y[r].set(yr) };
             f(r, yr.get())
         })

@@ -4,8 +4,8 @@
 //!
 //! Determinism: every parallel loop writes disjoint outputs computed in a fixed order, and every
 //! reduction sums fixed-size chunks ([`reduce::CHUNK`]) whose partial sums are added in chunk
-//! order, so a solve gives the same bits on 1 or N threads. Conjugate gradients and the
-//! multigrid run as one gang of threads per solve ([`gang`]); the other loops on rayon.
+//! order, so a solve gives the same bits on 1 or N threads. Conjugate gradients, the multigrid
+//! cycle and BiCGStab run as one gang of threads per solve ([`gang`]); the other loops on rayon.
 
 pub mod amg;
 pub mod bicgstab;
@@ -113,7 +113,11 @@ pub struct Tolerance {
 /// runs the solve ([`gang`]).
 pub trait Preconditioner: Sync {
     /// Adds the bytes its kernels stream to `bytes` (diagnostics).
-    fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], bytes: &mut f64);
+    ///
+    /// # Safety
+    /// Every member of `crew` calls it with the same vectors, which no other gang uses (nor
+    /// this preconditioner's work vectors: one solve at a time), and `z` is not `r`.
+    unsafe fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], bytes: &mut f64);
 
     /// Adds a solve's tally of `apply`'s bytes to the preconditioner's own.
     fn record_bytes(&mut self, _bytes: f64) {}
@@ -123,7 +127,7 @@ pub trait Preconditioner: Sync {
 pub struct Jacobi;
 
 impl Preconditioner for Jacobi {
-    fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], _bytes: &mut f64) {
+    unsafe fn apply(&self, crew: &gang::Crew, a: &Csr, r: &[gang::Slot<f64>], z: &[gang::Slot<f64>], _bytes: &mut f64) {
         // SAFETY: z[i] is written by its block's member only; r is not written
         crew.for_each(a.n, |i| unsafe { z[i].set(r[i].get() / a.diag[i]) });
     }

@@ -17,6 +17,8 @@ pub struct Pcg {
     p: Vec<Slot<f64>>,
     q: Vec<Slot<f64>>,
     partials: Vec<Slot<[f64; 2]>>,
+    /// Solve on the calling thread alone ([`Pcg::on_the_calling_thread`]).
+    alone: bool,
     /// Bytes streamed by the CG kernels (as [`super::amg::Amg::bytes_streamed`], excluding the
     /// preconditioner).
     bytes: f64,
@@ -24,7 +26,7 @@ pub struct Pcg {
 
 /// OpenFOAM's normalisation factor Σ|Ax − Ax̄| + Σ|b − Ax̄| + 10⁻²⁰ (x̄ = mean of x), given
 /// ax = A x; A x̄ = x̄ · (row sums of A).
-pub(super) fn normalisation(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax: &[Slot<f64>]) -> f64 {
+fn normalisation(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax: &[Slot<f64>]) -> f64 {
     let n = a.n;
     // SAFETY: x and ax are not written during these sums
     let mean = crew.sum(n, |i| unsafe { x[i].get() }) / n as f64;
@@ -34,12 +36,33 @@ pub(super) fn normalisation(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax
     }) + 1e-20
 }
 
+/// r = b − A x, and (the normalisation, the normalised residual |r|₁ / normalisation), with `ax`
+/// as the work vector of A x, by the members of a gang.
+///
+/// # Safety
+/// Every member of `crew` calls it with the same vectors, which no other gang uses.
+pub(super) unsafe fn initial_residual(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax: &[Slot<f64>], r: &[Slot<f64>]) -> (f64, f64) {
+    let n = a.n;
+    // SAFETY: the caller's promise; each loop writes its own rows of one vector it does not
+    // read at other rows
+    unsafe { a.multiply_shared(crew, x, ax) };
+    let norm = normalisation(crew, a, b, x, ax);
+    crew.for_each(n, |i| unsafe { r[i].set(b[i] - ax[i].get()) });
+    (norm, crew.sum(n, |i| unsafe { r[i].get() }.abs()) / norm)
+}
+
 impl Pcg {
     fn size(&mut self, n: usize) {
         for v in [&mut self.r, &mut self.z, &mut self.p, &mut self.q] {
             v.resize_with(n, Slot::default);
         }
-        self.partials.resize_with(gang::partials_for(n), Slot::default);
+    }
+
+    /// Solves on the calling thread alone instead of a gang of the pool's threads: for solves
+    /// run side by side, one a thread (each gang would wait for threads busy with the others).
+    pub fn on_the_calling_thread(mut self) -> Self {
+        self.alone = true;
+        self
     }
 
     /// Bytes streamed by the CG iterations so far (the preconditioner counts its own).
@@ -51,10 +74,13 @@ impl Pcg {
     pub fn solve(&mut self, a: &Csr, b: &[f64], x: &mut [f64], m: &mut impl Preconditioner, tol: Tolerance) -> SolveStats {
         let n = a.n;
         self.size(n);
-        let Pcg { r, z, p, q, partials, bytes } = self;
+        let Pcg { r, z, p, q, partials, alone, bytes } = self;
         let (r, z, p, q, x) = (&r[..], &z[..], &p[..], &q[..], Slot::from_mut_slice(x));
         let shared = &*m;
-        let (stats, cg_bytes, m_bytes) = gang::run(n, partials, |crew| iterate(crew, a, b, x, [r, z, p, q], shared, tol));
+        // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
+        // every member runs `iterate` whole
+        let body = |crew: &Crew| unsafe { iterate(crew, a, b, x, [r, z, p, q], shared, tol) };
+        let (stats, cg_bytes, m_bytes) = if *alone { gang::run_alone(n, partials, body) } else { gang::run(n, partials, body) };
         *bytes += cg_bytes;
         m.record_bytes(m_bytes);
         stats
@@ -63,12 +89,15 @@ impl Pcg {
 
 /// The CG iterations, run by every member of `crew`: (statistics, bytes of the CG kernels,
 /// bytes of the preconditioner).
+///
+/// # Safety
+/// Every member of `crew` runs it whole, with vectors no other gang uses.
 //
 // SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
 // or its chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries
 // of vectors no member writes in that loop; the barrier that ends each loop orders its writes
 // before the reads of the loops after it.
-fn iterate(
+unsafe fn iterate(
     crew: &Crew,
     a: &Csr,
     b: &[f64],
@@ -82,15 +111,12 @@ fn iterate(
     let at = |v: &[Slot<f64>], i: usize| unsafe { v[i].get() };
     let matrix = (12 * a.col.len() + 4 * (n + 1) + 8 * n) as f64;
     let nf = n as f64;
-    a.multiply_shared(crew, x, q);
-    let norm = normalisation(crew, a, b, x, q);
-    crew.for_each(n, |i| unsafe { r[i].set(b[i] - at(q, i)) });
-    let mut residual = crew.sum(n, |i| at(r, i).abs()) / norm;
+    let (norm, mut residual) = unsafe { initial_residual(crew, a, b, x, q, r) };
     let mut stats = SolveStats { iterations: 0, initial_residual: residual, final_residual: residual };
     if residual < tol.tolerance {
         return (stats, bytes, m_bytes);
     }
-    m.apply(crew, a, r, z, &mut m_bytes);
+    unsafe { m.apply(crew, a, r, z, &mut m_bytes) };
     crew.for_each(n, |i| unsafe { p[i].set(at(z, i)) });
     let mut rz = crew.sum(n, |i| at(r, i) * at(z, i));
     while stats.iterations < tol.max_iterations {
@@ -98,7 +124,7 @@ fn iterate(
         // product with p·q, fused update + |r| (x, r read and written, p, q read), r·z and
         // z·q, p update
         bytes += matrix + 16.0 * nf + 48.0 * nf + 24.0 * nf + 24.0 * nf;
-        let [pq, _] = a.multiply_sum2_shared(crew, p, q, |i, qi| [at(p, i) * qi, 0.0]);
+        let [pq, _] = unsafe { a.multiply_sum2_shared(crew, p, q, |i, qi| [at(p, i) * qi, 0.0]) };
         if pq == 0.0 || !pq.is_finite() {
             break;
         }
@@ -113,7 +139,7 @@ fn iterate(
         if residual < tol.tolerance {
             break;
         }
-        m.apply(crew, a, r, z, &mut m_bytes);
+        unsafe { m.apply(crew, a, r, z, &mut m_bytes) };
         // r_{k+1} − r_k = −α q, so z_{k+1}·(r_{k+1} − r_k) = −α z_{k+1}·q
         let [rz_new, zq] = crew.sum2(n, |i| [at(r, i) * at(z, i), at(z, i) * at(q, i)]);
         let beta = -alpha * zq / rz;

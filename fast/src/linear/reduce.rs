@@ -13,6 +13,29 @@ pub struct Reducer {
     partial: Vec<[f64; 2]>,
 }
 
+/// The sums of chunk k of a sum over `0..n`: its entries added in index order.
+#[inline(always)]
+pub fn chunk_sum(k: usize, n: usize, f: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
+    let mut acc = [0.0; 2];
+    for i in k * CHUNK..((k + 1) * CHUNK).min(n) {
+        let v = f(i);
+        acc[0] += v[0];
+        acc[1] += v[1];
+    }
+    acc
+}
+
+/// The chunk sums added in chunk order.
+#[inline]
+pub fn in_chunk_order(chunk_sums: impl Iterator<Item = [f64; 2]>) -> [f64; 2] {
+    let mut total = [0.0; 2];
+    for s in chunk_sums {
+        total[0] += s[0];
+        total[1] += s[1];
+    }
+    total
+}
+
 impl Reducer {
     /// Σ_{i<n} f(i).
     pub fn sum(&mut self, n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
@@ -23,21 +46,10 @@ impl Reducer {
     pub fn sum2(&mut self, n: usize, f: impl Fn(usize) -> [f64; 2] + Sync) -> [f64; 2] {
         let n_chunks = n.div_ceil(CHUNK);
         self.partial.resize(n_chunks, [0.0; 2]);
-        self.partial.par_iter_mut().enumerate().for_each(|(k, s)| {
-            let mut acc = [0.0; 2];
-            for i in k * CHUNK..((k + 1) * CHUNK).min(n) {
-                let v = f(i);
-                acc[0] += v[0];
-                acc[1] += v[1];
-            }
-            *s = acc;
-        });
-        let mut total = [0.0; 2];
-        for s in &self.partial {
-            total[0] += s[0];
-            total[1] += s[1];
-        }
-        total
+        // the closure, not `&f` (see `gang::Crew::sum2`)
+        #[allow(clippy::redundant_closure)]
+        self.partial.par_iter_mut().enumerate().for_each(|(k, s)| *s = chunk_sum(k, n, |i| f(i)));
+        in_chunk_order(self.partial.iter().copied())
     }
 
     /// max_{i<n} f(i) (order-independent, but kept in the same shape).

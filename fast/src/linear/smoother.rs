@@ -80,19 +80,29 @@ pub fn inverse_diagonal<T: Real>(a: &Csr<T>, inv: &mut Vec<T>) {
 
 /// One Gauss–Seidel sweep on A x = b in colour order (`forward`) or reverse colour order,
 /// updating x in place, by the members of a gang.
-pub fn sweep<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>], forward: bool) {
+///
+/// # Safety
+/// Every member of `crew` calls it with the same vectors, which no other gang uses, and `b`
+/// is not `x`.
+pub unsafe fn sweep<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>], forward: bool) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
-    if forward {
-        colour_passes(crew, a, inv_diag, colouring, b, x, 0..n_colours);
-    } else {
-        colour_passes(crew, a, inv_diag, colouring, b, x, (0..n_colours).rev());
+    // SAFETY: the caller's promise
+    unsafe {
+        if forward {
+            colour_passes(crew, a, inv_diag, colouring, b, x, 0..n_colours);
+        } else {
+            colour_passes(crew, a, inv_diag, colouring, b, x, (0..n_colours).rev());
+        }
     }
 }
 
 /// The Gauss–Seidel update of the rows of each colour in `colours`, one colour after the other
 /// (a barrier between two colours).
-fn colour_passes<T: Real, V: Real>(
+///
+/// # Safety
+/// As [`sweep`].
+unsafe fn colour_passes<T: Real, V: Real>(
     crew: &Crew,
     a: &Csr<T>,
     inv_diag: &[T],
@@ -120,7 +130,10 @@ fn colour_passes<T: Real, V: Real>(
 /// Forward sweep from x = 0. The first colour's neighbours are all still zero, so its rows are
 /// x = b / diag without reading the matrix (the same bits as the full sweep: b − Σ a·0 = b), and
 /// only the rows of the third and later colours need zeroing before the later colours read them.
-pub fn sweep_from_zero<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>]) {
+///
+/// # Safety
+/// As [`sweep`].
+pub unsafe fn sweep_from_zero<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>]) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();
     let rows_from = |k: usize| &colouring.order[colouring.start[k.min(n_colours)] as usize..];
@@ -135,7 +148,8 @@ pub fn sweep_from_zero<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T]
         let r = first[i] as usize;
         unsafe { x[r].set(V::put(b[r].get().get() * inv_diag[r].get())) };
     });
-    colour_passes(crew, a, inv_diag, colouring, b, x, 1..n_colours);
+    // SAFETY: the caller's promise
+    unsafe { colour_passes(crew, a, inv_diag, colouring, b, x, 1..n_colours) };
 }
 
 #[cfg(test)]
@@ -174,9 +188,9 @@ mod tests {
         inverse_diagonal(&a, &mut inv);
         let mut x = vec![0.0; n];
         let mut b_shared = b.clone();
-        let partials: Vec<Slot<[f64; 2]>> = (0..crate::linear::gang::partials_for(n)).map(|_| Slot::default()).collect();
         let (bs, xs) = (Slot::from_mut_slice(&mut b_shared), Slot::from_mut_slice(&mut x));
-        crate::linear::gang::run(n, &partials, |crew| {
+        // SAFETY: b and x are this gang's alone, b is not x, and the one member runs both
+        crate::linear::gang::run(n, &mut Vec::new(), |crew| unsafe {
             sweep_from_zero(crew, &a, &inv, &colouring, bs, xs);
             sweep(crew, &a, &inv, &colouring, bs, xs, false);
         });

@@ -276,10 +276,11 @@ impl Amg {
 
 impl Preconditioner for Amg {
     /// One cycle on the hierarchy of the last [`Amg::setup`], whose matrix `_a` must be.
-    fn apply(&self, crew: &Crew, _a: &Csr, r: &[Slot<f64>], z: &[Slot<f64>], bytes: &mut f64) {
+    unsafe fn apply(&self, crew: &Crew, _a: &Csr, r: &[Slot<f64>], z: &[Slot<f64>], bytes: &mut f64) {
         let Amg { transfers, fine, coarse, smoothers, work, dense, coarsest_smoother, .. } = self;
         let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother };
-        cycle(crew, fine, r, z, &levels, 0, work, bytes);
+        // SAFETY: the caller's promise; the work vectors are this solve's (one at a time)
+        unsafe { cycle(crew, fine, r, z, &levels, 0, work, bytes) };
     }
 
     fn record_bytes(&mut self, bytes: f64) {
@@ -322,7 +323,11 @@ struct Levels<'a> {
 }
 
 /// Exact (dense) or approximate (two symmetric sweeps, when coarsening stalled) coarsest solve.
-fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, bytes: &mut f64) {
+///
+/// # Safety (this function, [`cycle`] and [`k_cycle_correction`])
+/// Every member of `crew` calls it with the same vectors and work sets, which no other gang
+/// uses, `x` not being `b`.
+unsafe fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, bytes: &mut f64) {
     match levels.dense {
         Some(d) => {
             *bytes += 8.0 * (d.n * d.n) as f64 + 2.0 * size::<V>() * d.n as f64;
@@ -343,9 +348,12 @@ fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], le
         None => {
             let s = levels.coarsest;
             *bytes += 4.0 * sweep_bytes::<f32, V>(a);
-            sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x);
-            for forward in [false, true, false] {
-                sweep(crew, a, &s.inv_diag, &s.colouring, b, x, forward);
+            // SAFETY: the caller's promise
+            unsafe {
+                sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x);
+                for forward in [false, true, false] {
+                    sweep(crew, a, &s.inv_diag, &s.colouring, b, x, forward);
+                }
             }
         }
     }
@@ -355,9 +363,11 @@ fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], le
 /// works on the f64 vectors of CG (`V` = f64) with the f32 matrix copy; the coarse levels on f32
 /// vectors. Every kernel computes in f64.
 #[allow(clippy::too_many_arguments)]
-fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, k: usize, work: &[LevelWork], bytes: &mut f64) {
+unsafe fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, k: usize, work: &[LevelWork], bytes: &mut f64) {
+    // SAFETY (the calls below): the caller's promise, passed on with this level's own work
+    // set (bc, xc distinct) to the next level
     if k == levels.transfers.len() {
-        coarsest(crew, a, b, x, levels, bytes);
+        unsafe { coarsest(crew, a, b, x, levels, bytes) };
         return;
     }
     let t = &levels.transfers[k];
@@ -365,7 +375,7 @@ fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], level
     let ac = &levels.coarse[k];
     *bytes += cycle_bytes::<V>(a, t, s, ac.n);
     let (w, rest) = work.split_first().expect("one work set per transfer");
-    sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x);
+    unsafe { sweep_from_zero(crew, a, &s.inv_diag, &s.colouring, b, x) };
     // restricted residual bc = Pᵀ(b − A x), fused (no fine residual vector)
     crew.for_each(w.bc.len(), |c| {
         let mut sum = 0.0;
@@ -377,13 +387,13 @@ fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], level
         unsafe { w.bc[c].set(sum as f32) };
     });
     if k + 1 == levels.transfers.len() {
-        coarsest(crew, ac, &w.bc, &w.xc, levels, bytes);
+        unsafe { coarsest(crew, ac, &w.bc, &w.xc, levels, bytes) };
     } else if ac.n * KCYCLE_MIN_RATIO <= a.n && ac.n >= KCYCLE_MIN_ROWS {
-        k_cycle_correction(crew, ac, w, levels, k + 1, rest, bytes);
+        unsafe { k_cycle_correction(crew, ac, w, levels, k + 1, rest, bytes) };
     } else {
         // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit, or
         // the K-cycle's two visits per level would multiply without the work shrinking
-        cycle(crew, ac, &w.bc, &w.xc, levels, k + 1, rest, bytes);
+        unsafe { cycle(crew, ac, &w.bc, &w.xc, levels, k + 1, rest, bytes) };
     }
     // prolongation; the backward sweep starts with the last colour and overwrites those rows
     // from their (corrected) neighbours alone, so they are not corrected here
@@ -395,7 +405,7 @@ fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], level
         // not written in this loop
         unsafe { x[i].set(V::put(x[i].get().get() + xc[t.agg[i] as usize].get() as f64)) };
     });
-    sweep(crew, a, &s.inv_diag, &s.colouring, b, x, false);
+    unsafe { sweep(crew, a, &s.inv_diag, &s.colouring, b, x, false) };
 }
 
 /// Bytes one visit of [`cycle`] streams on a level of `a.n` rows above one of `nc`: the
@@ -420,15 +430,15 @@ fn cycle_bytes<V: Real>(a: &Csr<f32>, t: &Transfer, s: &Smoother, nc: usize) -> 
 // SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
 // or its chunk's in a sum) of a vector it does not read elsewhere; vectors written by one loop
 // are read by later loops, after the barrier that ends it.
-fn k_cycle_correction(crew: &Crew, ac: &Csr<f32>, w: &LevelWork, levels: &Levels, k: usize, rest: &[LevelWork], bytes: &mut f64) {
+unsafe fn k_cycle_correction(crew: &Crew, ac: &Csr<f32>, w: &LevelWork, levels: &Levels, k: usize, rest: &[LevelWork], bytes: &mut f64) {
     let n = ac.n;
     let LevelWork { bc, xc, v1, v2, w1, w2, rt } = w;
     let at = |v: &[Slot<f32>], i: usize| unsafe { v[i].get() } as f64;
-    cycle(crew, ac, bc, v1, levels, k, rest, bytes);
+    unsafe { cycle(crew, ac, bc, v1, levels, k, rest, bytes) };
     let nf = n as f64;
     // product with two sums, two sums, residual update (f32 vectors)
     *bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
-    let [rho1, alpha1] = ac.multiply_sum2_shared(crew, v1, w1, |i, w| [at(v1, i) * w, at(v1, i) * at(bc, i)]);
+    let [rho1, alpha1] = unsafe { ac.multiply_sum2_shared(crew, v1, w1, |i, w| [at(v1, i) * w, at(v1, i) * at(bc, i)]) };
     if rho1 <= 0.0 || !rho1.is_finite() {
         crew.for_each(n, |i| unsafe { xc[i].set(0.0) });
         return;
@@ -441,10 +451,10 @@ fn k_cycle_correction(crew: &Crew, ac: &Csr<f32>, w: &LevelWork, levels: &Levels
         crew.for_each(n, |i| unsafe { xc[i].set((a1 * at(v1, i)) as f32) });
         return;
     }
-    cycle(crew, ac, rt, v2, levels, k, rest, bytes);
+    unsafe { cycle(crew, ac, rt, v2, levels, k, rest, bytes) };
     // product with two sums, a sum, combination
     *bytes += matrix_bytes(ac) + 12.0 * nf + 8.0 * nf + 12.0 * nf;
-    let [gamma, beta] = ac.multiply_sum2_shared(crew, v2, w2, |i, w| [at(v2, i) * at(w1, i), at(v2, i) * w]);
+    let [gamma, beta] = unsafe { ac.multiply_sum2_shared(crew, v2, w2, |i, w| [at(v2, i) * at(w1, i), at(v2, i) * w]) };
     let alpha2 = crew.sum(n, |i| at(v2, i) * at(rt, i));
     let rho2 = beta - gamma * gamma / rho1;
     if rho2 <= 0.0 || !rho2.is_finite() {
