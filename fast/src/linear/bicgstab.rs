@@ -18,7 +18,7 @@ pub struct BiCgStab {
     t: Vec<Slot<f64>>,
     y: Vec<Slot<f64>>,
     zs: Vec<Slot<f64>>,
-    partials: Vec<Slot<[f64; 2]>>,
+    partials: Vec<gang::PartialSum>,
 }
 
 impl BiCgStab {
@@ -58,12 +58,14 @@ struct Vectors<'a> {
 /// The BiCGStab iterations, run by every member of `crew`.
 ///
 /// # Safety
-/// Every member of `crew` runs it whole, with vectors no other gang uses.
+/// Every member of `crew` runs it whole, with distinct vectors no other gang uses.
 //
-// SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
-// or its chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries
-// of vectors no member writes in that loop; the barrier that ends each loop orders its writes
-// before the reads of the loops after it.
+// SAFETY (every unsafe block below): a loop writes only its own entries (its block's, or its
+// chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries of
+// vectors no member writes in that loop; the barrier that ends each loop orders its writes
+// before the reads of the loops after it. The kernels called (products, preconditioner, the
+// initial residual) get distinct vectors of this solve, and every member calls them in step:
+// every branch follows sums that all members compute alike.
 unsafe fn iterate(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], w: &Vectors, tol: Tolerance) -> SolveStats {
     let n = a.n;
     let Vectors { r, r0, p, v, s, t, y, zs } = *w;

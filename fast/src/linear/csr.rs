@@ -97,7 +97,7 @@ impl<T: Real> Csr<T> {
     /// (fixed-chunk sums: the same bits on any number of threads).
     ///
     /// # Safety
-    /// As [`Csr::multiply_shared`]; `f` reads no entry of `y` but its own.
+    /// As [`Csr::multiply_shared`]; `f` writes nothing and reads no entry of `y` but its own.
     pub unsafe fn multiply_sum2_shared<V: Real>(&self, crew: &Crew, x: &[Slot<V>], y: &[Slot<V>], f: impl Fn(usize, f64) -> [f64; 2]) -> [f64; 2] {
         assert_eq!(y.len(), self.n, "multiply: y has the matrix size");
         debug_assert!(!std::ptr::eq(x.as_ptr(), y.as_ptr()), "multiply: y is not x");

@@ -28,7 +28,7 @@ use std::any::Any;
 use std::cell::{Cell, UnsafeCell};
 use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -49,14 +49,14 @@ impl<T: Copy> Slot<T> {
     }
 
     /// # Safety
-    /// No other member writes this entry between the barriers around the read.
+    /// No other thread writes this entry between the barriers around the read.
     #[inline(always)]
     pub unsafe fn get(&self) -> T {
         unsafe { *self.0.get() }
     }
 
     /// # Safety
-    /// No other member reads or writes this entry between the barriers around the write.
+    /// No other thread reads or writes this entry between the barriers around the write.
     #[inline(always)]
     pub unsafe fn set(&self, value: T) {
         unsafe { *self.0.get() = value }
@@ -76,18 +76,47 @@ impl<T: Copy> Slot<T> {
     }
 }
 
-impl<T: Copy> Clone for Slot<T> {
+/// A slot's clone is a fresh default entry: slots hold the scratch vectors of a solve, whose
+/// entries are written before they are read in every solve.
+impl<T: Copy + Default> Clone for Slot<T> {
     fn clone(&self) -> Self {
-        // SAFETY: the callers of `set` promise that no other thread reads the entry meanwhile,
-        // a clone included (the work vectors holding slots are cloned only between solves)
-        Slot::new(unsafe { self.get() })
+        Slot::default()
     }
 }
 
-impl<T: Copy + std::fmt::Debug> std::fmt::Debug for Slot<T> {
+impl<T> std::fmt::Debug for Slot<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        // SAFETY: as `clone`
-        unsafe { self.get() }.fmt(f)
+        f.write_str("Slot")
+    }
+}
+
+/// The two sums of one chunk, written by the member that owns the chunk and read by all after
+/// a barrier. Atomic (relaxed: the barrier orders them), so that members calling the sums out
+/// of step get wrong numbers rather than a data race.
+#[derive(Default)]
+pub struct PartialSum([AtomicU64; 2]);
+
+impl PartialSum {
+    fn set(&self, sums: [f64; 2]) {
+        self.0[0].store(sums[0].to_bits(), Ordering::Relaxed);
+        self.0[1].store(sums[1].to_bits(), Ordering::Relaxed);
+    }
+
+    fn get(&self) -> [f64; 2] {
+        [f64::from_bits(self.0[0].load(Ordering::Relaxed)), f64::from_bits(self.0[1].load(Ordering::Relaxed))]
+    }
+}
+
+/// Chunk sums are scratch: a clone starts afresh.
+impl Clone for PartialSum {
+    fn clone(&self) -> Self {
+        PartialSum::default()
+    }
+}
+
+impl std::fmt::Debug for PartialSum {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PartialSum")
     }
 }
 
@@ -155,7 +184,7 @@ pub struct Crew<'g> {
     gang: &'g Gang,
     /// Two buffers of chunk sums, used in turn (a member may write the next sum's chunks while
     /// another still reads this one's).
-    partials: &'g [Slot<[f64; 2]>],
+    partials: &'g [PartialSum],
     flip: Cell<usize>,
 }
 
@@ -182,11 +211,12 @@ impl Crew<'_> {
         }
         let mut spins = 0u32;
         while gang.generation.0.load(Ordering::Acquire) == generation {
-            if gang.poisoned.load(Ordering::Acquire) {
-                std::panic::resume_unwind(Box::new(Poisoned));
-            }
             spins += 1;
             if spins.is_multiple_of(SPINS_PER_YIELD) {
+                // looked at now and then only: the flag shares a cache line with the arrivals
+                if gang.poisoned.load(Ordering::Acquire) {
+                    std::panic::resume_unwind(Box::new(Poisoned));
+                }
                 std::thread::yield_now();
             } else {
                 std::hint::spin_loop();
@@ -229,18 +259,17 @@ impl Crew<'_> {
         let partial = &self.partials[buffer * half..buffer * half + chunks];
         let (first, end) = (self.id * chunks / self.size, (self.id + 1) * chunks / self.size);
         for (k, slot) in partial.iter().enumerate().take(end).skip(first) {
-            // SAFETY: chunk k is this member's; the others read it after the barrier
             // the closure, not `&f`: passed by reference the summand was not inlined (5 % more
             // instructions in a pressure solve, counted by cachegrind)
             #[allow(clippy::redundant_closure)]
-            unsafe {
-                slot.set(chunk_sum(k, n, |i| f(i)))
-            };
+            let sums = chunk_sum(k, n, |i| f(i));
+            // chunk k is this member's; the others read it after the barrier, and it is
+            // rewritten only two sums later, after the next sum's barrier, which every member
+            // reaches after reading it
+            slot.set(sums);
         }
         self.barrier();
-        // SAFETY: written before the barrier; rewritten only two sums later, after the next
-        // sum's barrier, which every member reaches after this read
-        in_chunk_order(partial.iter().map(|slot| unsafe { slot.get() }))
+        in_chunk_order(partial.iter().map(PartialSum::get))
     }
 
     /// f on the first member alone, then a barrier.
@@ -253,14 +282,14 @@ impl Crew<'_> {
 }
 
 /// The chunk sums of a gang whose sums run over up to `rows` entries.
-fn sized(rows: usize, partials: &mut Vec<Slot<[f64; 2]>>) -> &[Slot<[f64; 2]>] {
-    partials.resize_with(2 * rows.div_ceil(CHUNK).max(1), Slot::default);
+fn sized(rows: usize, partials: &mut Vec<PartialSum>) -> &[PartialSum] {
+    partials.resize_with(2 * rows.div_ceil(CHUNK).max(1), PartialSum::default);
     partials
 }
 
 /// [`run`] on the calling thread alone (a gang of one): for solves run side by side, one a
 /// thread, where a gang would wait for threads busy with the others' solves.
-pub fn run_alone<R>(rows: usize, partials: &mut Vec<Slot<[f64; 2]>>, body: impl FnOnce(&Crew) -> R) -> R {
+pub fn run_alone<R>(rows: usize, partials: &mut Vec<PartialSum>, body: impl FnOnce(&Crew) -> R) -> R {
     let partials = sized(rows, partials);
     let gang = Gang::new();
     body(&Crew { id: 0, size: 1, gang: &gang, partials, flip: Cell::new(0) })
@@ -270,7 +299,7 @@ pub fn run_alone<R>(rows: usize, partials: &mut Vec<Slot<[f64; 2]>>, body: impl 
 /// [`GATHER`]; the caller alone for fewer than [`GANG_MIN_ROWS`] rows or a pool of one) and
 /// returns the first member's result. Its sums may run over up to `rows` entries; `partials`
 /// holds their chunk sums (resized here: no allocation once large enough).
-pub fn run<R: Send>(rows: usize, partials: &mut Vec<Slot<[f64; 2]>>, body: impl Fn(&Crew) -> R + Sync) -> R {
+pub fn run<R: Send>(rows: usize, partials: &mut Vec<PartialSum>, body: impl Fn(&Crew) -> R + Sync) -> R {
     let threads = rayon::current_num_threads();
     if threads <= 1 || rows < GANG_MIN_ROWS {
         return run_alone(rows, partials, body);
@@ -323,12 +352,22 @@ pub fn run<R: Send>(rows: usize, partials: &mut Vec<Slot<[f64; 2]>>, body: impl 
             std::hint::spin_loop();
         }
         let size = gang.gate.fetch_or(CLOSED, Ordering::AcqRel);
+        #[cfg(test)]
+        if size > 1 {
+            GANGS_OF_SEVERAL.with(|count| count.set(count.get() + 1));
+        }
         member(0, size)
     });
     if let Some(payload) = gang.payload.lock().unwrap_or_else(|e| e.into_inner()).take() {
         std::panic::resume_unwind(payload);
     }
     result.expect("the first member returns or its panic is re-raised")
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Gangs of more than one member this thread has led (tests check that a gang formed).
+    pub(crate) static GANGS_OF_SEVERAL: Cell<usize> = const { Cell::new(0) };
 }
 
 #[cfg(test)]
@@ -374,15 +413,17 @@ mod tests {
                 })
             })
         };
-        let mut out_three = vec![0.0; n];
-        let three = {
-            let out = Slot::from_mut_slice(&mut out_three);
+        let mut out_gang = vec![0.0; n];
+        let gang = {
+            let out = Slot::from_mut_slice(&mut out_gang);
             on_a_real_gang(3, n, |crew| rounds(crew, out))
         };
-        assert_eq!(one, three);
-        assert_eq!(out_one, out_three);
-        let reducer = crate::linear::reduce::Reducer::default().sum(n, |i| v[i] * 199.0);
-        assert_eq!(*one.last().unwrap(), reducer.to_bits(), "the bits of the rayon reduction");
+        assert_eq!(one, gang);
+        assert_eq!(out_one, out_gang);
+        // the order of the rayon reduction (`reduce.rs`), written out: chunks in index order,
+        // their sums in chunk order
+        let chunked: f64 = (0..n).step_by(CHUNK).map(|start| (start..(start + CHUNK).min(n)).fold(0.0, |s, i| s + v[i] * 199.0)).fold(0.0, |s, c| s + c);
+        assert_eq!(*one.last().unwrap(), chunked.to_bits(), "the bits of a fixed-chunk sum");
     }
 
     #[test]

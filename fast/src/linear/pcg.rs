@@ -16,7 +16,7 @@ pub struct Pcg {
     z: Vec<Slot<f64>>,
     p: Vec<Slot<f64>>,
     q: Vec<Slot<f64>>,
-    partials: Vec<Slot<[f64; 2]>>,
+    partials: Vec<gang::PartialSum>,
     /// Solve on the calling thread alone ([`Pcg::on_the_calling_thread`]).
     alone: bool,
     /// Bytes streamed by the CG kernels (as [`super::amg::Amg::bytes_streamed`], excluding the
@@ -40,11 +40,12 @@ fn normalisation(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax: &[Slot<f6
 /// as the work vector of A x, by the members of a gang.
 ///
 /// # Safety
-/// Every member of `crew` calls it with the same vectors, which no other gang uses.
+/// Every member of `crew` calls it with the same vectors, which no other gang uses, `x`, `ax`
+/// and `r` distinct.
 pub(super) unsafe fn initial_residual(crew: &Crew, a: &Csr, b: &[f64], x: &[Slot<f64>], ax: &[Slot<f64>], r: &[Slot<f64>]) -> (f64, f64) {
     let n = a.n;
-    // SAFETY: the caller's promise; each loop writes its own rows of one vector it does not
-    // read at other rows
+    // SAFETY: the caller's promise (ax is not x); each loop writes its own rows of one vector
+    // it does not read at other rows
     unsafe { a.multiply_shared(crew, x, ax) };
     let norm = normalisation(crew, a, b, x, ax);
     crew.for_each(n, |i| unsafe { r[i].set(b[i] - ax[i].get()) });
@@ -70,7 +71,8 @@ impl Pcg {
         self.bytes
     }
 
-    /// Solves A x = b from the initial guess in `x`, on a gang of the current pool's threads.
+    /// Solves A x = b from the initial guess in `x`, on a gang of the current pool's threads
+    /// (or on the calling thread, [`Pcg::on_the_calling_thread`]; short solves always).
     pub fn solve(&mut self, a: &Csr, b: &[f64], x: &mut [f64], m: &mut impl Preconditioner, tol: Tolerance) -> SolveStats {
         let n = a.n;
         self.size(n);
@@ -91,12 +93,14 @@ impl Pcg {
 /// bytes of the preconditioner).
 ///
 /// # Safety
-/// Every member of `crew` runs it whole, with vectors no other gang uses.
+/// Every member of `crew` runs it whole, with distinct vectors no other gang uses.
 //
-// SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
-// or its chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries
-// of vectors no member writes in that loop; the barrier that ends each loop orders its writes
-// before the reads of the loops after it.
+// SAFETY (every unsafe block below): a loop writes only its own entries (its block's, or its
+// chunk's in a sum) of the vectors it writes, and reads the entries it writes or entries of
+// vectors no member writes in that loop; the barrier that ends each loop orders its writes
+// before the reads of the loops after it. The kernels called (products, preconditioner, the
+// initial residual) get distinct vectors of this solve, and every member calls them in step:
+// every branch follows sums that all members compute alike.
 unsafe fn iterate(
     crew: &Crew,
     a: &Csr,

@@ -82,8 +82,9 @@ pub fn inverse_diagonal<T: Real>(a: &Csr<T>, inv: &mut Vec<T>) {
 /// updating x in place, by the members of a gang.
 ///
 /// # Safety
-/// Every member of `crew` calls it with the same vectors, which no other gang uses, and `b`
-/// is not `x`.
+/// Every member of `crew` calls it with the same vectors, which no other gang uses, `b` is not
+/// `x`, and `colouring` is [`Colouring::build`]'s for the pattern of `a` (every row once, no two
+/// coupled rows of one colour: the rows of a colour are written side by side).
 pub unsafe fn sweep<T: Real, V: Real>(crew: &Crew, a: &Csr<T>, inv_diag: &[T], colouring: &Colouring, b: &[Slot<V>], x: &[Slot<V>], forward: bool) {
     assert_eq!(x.len(), a.n, "sweep: x has the matrix size");
     let n_colours = colouring.colours();

@@ -326,7 +326,8 @@ struct Levels<'a> {
 ///
 /// # Safety (this function, [`cycle`] and [`k_cycle_correction`])
 /// Every member of `crew` calls it with the same vectors and work sets, which no other gang
-/// uses, `x` not being `b`.
+/// uses, `x` not being `b`. (The levels' colourings are built from their own matrices in
+/// [`Amg::setup`], as the sweeps require.)
 unsafe fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, bytes: &mut f64) {
     match levels.dense {
         Some(d) => {
@@ -362,6 +363,9 @@ unsafe fn coarsest<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<
 /// x = B b, one cycle from x = 0 on level `k` (matrix `a`), by the members of a gang. Level 0
 /// works on the f64 vectors of CG (`V` = f64) with the f32 matrix copy; the coarse levels on f32
 /// vectors. Every kernel computes in f64.
+///
+/// # Safety
+/// As [`coarsest`].
 #[allow(clippy::too_many_arguments)]
 unsafe fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>], levels: &Levels, k: usize, work: &[LevelWork], bytes: &mut f64) {
     // SAFETY (the calls below): the caller's promise, passed on with this level's own work
@@ -426,10 +430,15 @@ fn cycle_bytes<V: Real>(a: &Csr<f32>, t: &Transfer, s: &Smoother, nc: usize) -> 
 
 /// Coarse correction xc ≈ Aᶜ⁻¹ bc on level `k` by at most two flexible-CG steps preconditioned
 /// with the next cycle (Notay & Vassilevski 2008, Algorithm 3.1 with t = [`KCYCLE_SKIP`]).
+///
+/// # Safety
+/// As [`coarsest`].
 //
-// SAFETY (every unsafe read and write below): a loop writes only its own entries (its block's,
-// or its chunk's in a sum) of a vector it does not read elsewhere; vectors written by one loop
-// are read by later loops, after the barrier that ends it.
+// SAFETY (every unsafe block below): a loop writes only its own entries (its block's, or its
+// chunk's in a sum) of a vector it does not read elsewhere; vectors written by one loop are
+// read by later loops, after the barrier that ends it. The cycles and products called get
+// this level's distinct work vectors, and every member calls them in step (the branches follow
+// sums all members compute alike).
 unsafe fn k_cycle_correction(crew: &Crew, ac: &Csr<f32>, w: &LevelWork, levels: &Levels, k: usize, rest: &[LevelWork], bytes: &mut f64) {
     let n = ac.n;
     let LevelWork { bc, xc, v1, v2, w1, w2, rt } = w;
@@ -510,6 +519,36 @@ mod tests {
             assert_eq!(rows, 64 * 48 >> (2 * k), "level {k}: 2 × 2 aggregates ({sizes:?})");
             assert_eq!(colours, 2, "level {k}: a chequerboard ({sizes:?})");
         }
+    }
+
+    /// The whole K-cycle CG (sweeps, restrictions, products with sums, the coarse K-cycle
+    /// steps, the dense coarsest solve) on a gang of two threads gives the bits of one thread.
+    #[test]
+    fn a_gang_of_two_threads_solves_with_the_bits_of_one() {
+        let a = laplacian(96, 64);
+        assert!(a.n >= crate::linear::gang::GANG_MIN_ROWS);
+        let b: Vec<f64> = (0..a.n).map(|i| ((i * 31) % 17) as f64 - 8.0 + 1e-3 * i as f64).collect();
+        let tol = Tolerance { tolerance: 1e-12, max_iterations: 500 };
+        let solve = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                crate::team::keep_awake(|| {
+                    let mut amg = Amg::default();
+                    amg.setup(&a);
+                    let mut x = vec![0.0; a.n];
+                    let gangs = || crate::linear::gang::GANGS_OF_SEVERAL.with(|c| c.get());
+                    let before = gangs();
+                    let stats = Pcg::default().solve(&a, &b, &mut x, &mut amg, tol);
+                    (x, stats, gangs() - before)
+                })
+            })
+        };
+        let (x_one, stats_one, _) = solve(1);
+        assert!(stats_one.final_residual < 1e-12, "{stats_one:?}");
+        let (x_two, stats_two) =
+            (0..50).map(|_| solve(2)).find(|(_, _, gangs)| *gangs > 0).map(|(x, s, _)| (x, s)).expect("a gang of two threads formed in 50 tries");
+        assert_eq!(stats_one, stats_two);
+        assert!(x_one.iter().zip(&x_two).all(|(p, q)| p.to_bits() == q.to_bits()), "the bits of one thread");
     }
 
     #[test]
