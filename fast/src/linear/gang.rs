@@ -44,10 +44,6 @@ pub struct Slot<T>(UnsafeCell<T>);
 unsafe impl<T: Send> Sync for Slot<T> {}
 
 impl<T: Copy> Slot<T> {
-    pub fn new(value: T) -> Self {
-        Slot(UnsafeCell::new(value))
-    }
-
     /// # Safety
     /// No other thread writes this entry between the barriers around the read.
     #[inline(always)]
