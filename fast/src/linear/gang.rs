@@ -131,7 +131,12 @@ const SPINS_PER_YIELD: u32 = 4096;
 
 /// How long the first member waits for the others to join before it starts with those that
 /// have: the pool's threads kept awake join within microseconds, a sleeping pool's within tens.
+#[cfg(not(test))]
 const GATHER: Duration = Duration::from_micros(300);
+/// In the tests, which run side by side on few cores, long enough for a worker the system has
+/// not scheduled yet: they check what a gang of several members computes, not how fast it forms.
+#[cfg(test)]
+const GATHER: Duration = Duration::from_millis(50);
 
 /// Solves shorter than this many rows run on the calling thread alone (their loops are shorter
 /// than the gathering of a gang).
