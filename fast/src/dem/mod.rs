@@ -24,6 +24,8 @@ pub mod pair_forces;
 pub mod pair_lanes;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes_avx;
+#[cfg(target_arch = "x86_64")]
+mod pair_lanes_avx512;
 pub mod wall_forces;
 
 use spillage_model::case::Case;

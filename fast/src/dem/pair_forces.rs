@@ -15,7 +15,7 @@ use spillage_model::particles::ContactRecord;
 
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{NeighbourList, Pair, PairEnergy, PairForce, Touch};
-use super::pair_lanes::{FourPairs, Lane};
+use super::pair_lanes::{Lane, PairGroup};
 use crate::team::{DisjointSlices, Team};
 
 /// What the pair evaluation reads besides the particles.
@@ -190,10 +190,16 @@ struct RunOfA {
 }
 
 impl Segment<'_> {
-    /// The segment through the kernel the processor runs best: the AVX lanes, called from a
-    /// loop compiled for AVX (the processor is asked once per segment, not per group), where
-    /// the processor has them; else the portable lanes.
+    /// The segment through the kernel the processor runs best: the AVX-512 lanes (eight pairs
+    /// at once) or the AVX lanes (four), called from a loop compiled for them (the processor is
+    /// asked once per segment, not per group), where the processor has them; else the portable
+    /// lanes.
     fn evaluate(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512 F (checked just above).
+            return unsafe { self.evaluate_avx512(entries, arrays, context) };
+        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor has AVX (checked just above).
@@ -203,26 +209,33 @@ impl Segment<'_> {
     }
 
     #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn evaluate_avx512(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
+        // the closure inherits the function's AVX-512, so it may call the AVX-512 kernel
+        self.evaluate_with(|group, arrays, dt, energy| super::pair_lanes_avx512::eight_pairs_avx512(group, arrays, dt, energy), entries, arrays, context)
+    }
+
+    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     fn evaluate_avx(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
         // the closure inherits the function's AVX, so it may call the AVX kernel
         self.evaluate_with(|group, arrays, dt, energy| super::pair_lanes_avx::four_pairs_avx(group, arrays, dt, energy), entries, arrays, context)
     }
 
-    /// Evaluates the segment's pairs, four at a time through `kernel`, and adds each touching
+    /// Evaluates the segment's pairs, `N` at a time through `kernel`, and adds each touching
     /// pair to its particles (to the sums of those whose first segment this is, else aside).
     #[inline(always)]
-    fn evaluate_with<K>(self, kernel: K, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool
+    fn evaluate_with<const N: usize, K>(self, kernel: K, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool
     where
-        K: Fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4],
+        K: Fn(PairGroup, &ParticleArrays, f64, bool) -> [Lane; N],
     {
         let Entries { pairs, constants, touch, records, energy, kept } = entries;
         self.aside.clear();
-        let groups = pairs.chunks(4).zip(touch.chunks_mut(4)).zip(records.chunks_mut(4)).zip(energy.chunks_mut(4)).zip(kept.chunks_mut(4));
+        let groups = pairs.chunks(N).zip(touch.chunks_mut(N)).zip(records.chunks_mut(N)).zip(energy.chunks_mut(N)).zip(kept.chunks_mut(N));
         let mut fault = false;
         // the pairs' forces are read back at once; the list keeps them only when the totals
         // need their touching flags (the energy guard's sub-steps)
-        let mut scratch = [PairForce::default(); 4];
+        let mut scratch = [PairForce::default(); N];
         let mut run = RunOfA { k: usize::MAX, force: Vec3::zeros(), torque: Vec3::zeros(), count: 0 };
         for ((((pairs, touch), records), energy), kept) in groups {
             let out = if context.energy { kept } else { &mut scratch[..pairs.len()] };
@@ -259,11 +272,11 @@ impl Segment<'_> {
     }
 }
 
-/// Up to four consecutive pairs: through `kernel`, and the lanes it leaves (or a last
-/// group of fewer than four) through the scalar [`evaluate`]; true when one has a fault.
+/// Up to `N` consecutive pairs: through `kernel`, and the lanes it leaves (or a last group of
+/// fewer than `N`) through the scalar [`evaluate`]; true when one has a fault.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn evaluate_group<K>(
+fn evaluate_group<const N: usize, K>(
     kernel: &K,
     pairs: &[Pair],
     constants: &[PairConstants],
@@ -275,13 +288,13 @@ fn evaluate_group<K>(
     context: &PairContext,
 ) -> bool
 where
-    K: Fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4],
+    K: Fn(PairGroup, &ParticleArrays, f64, bool) -> [Lane; N],
 {
-    let lanes = if pairs.len() == 4 {
-        let group = FourPairs { pairs, constants, touch: &mut *touch, energy: &mut *energy, out: &mut *out };
+    let lanes = if pairs.len() == N {
+        let group = PairGroup { pairs, constants, touch: &mut *touch, energy: &mut *energy, out: &mut *out };
         kernel(group, arrays, context.dt, context.energy)
     } else {
-        [Lane::Scalar; 4]
+        [Lane::Scalar; N]
     };
     let mut fault = false;
     for (l, pair) in pairs.iter().enumerate().filter(|&(l, _)| lanes[l] == Lane::Scalar) {

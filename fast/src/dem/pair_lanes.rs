@@ -146,8 +146,8 @@ pub enum Lane {
     Scalar,
 }
 
-/// Four consecutive listed pairs and their entries.
-pub struct FourPairs<'a> {
+/// Consecutive listed pairs (four, or eight for the AVX-512 kernel) and their entries.
+pub struct PairGroup<'a> {
     pub pairs: &'a [Pair],
     pub constants: &'a [PairConstants],
     pub touch: &'a mut [Touch],
@@ -160,8 +160,8 @@ pub struct FourPairs<'a> {
 /// processor has AVX the pair loop ([`super::pair_forces`]) runs `pair_lanes_avx`'s kernel
 /// instead: the same IEEE operations, so the same bits.
 #[inline(always)]
-pub(super) fn in_lanes(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
-    let FourPairs { pairs, constants, touch, energy, out } = group;
+pub(super) fn in_lanes(group: PairGroup, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+    let PairGroup { pairs, constants, touch, energy, out } = group;
     let (a, b) = ([0, 1, 2, 3].map(|l| pairs[l].a as usize), [0, 1, 2, 3].map(|l| pairs[l].b as usize));
     let c = [0, 1, 2, 3].map(|l| &constants[pairs[l].constants as usize]);
     let ra = F4::new(|l| arrays.radius[a[l]]);
@@ -285,10 +285,11 @@ mod tests {
     use super::*;
     use spillage_model::closure::contact::hertz_mindlin_force;
 
-    type Kernel = fn(FourPairs, &ParticleArrays, f64, bool) -> [Lane; 4];
+    type Kernel<const N: usize> = fn(PairGroup, &ParticleArrays, f64, bool) -> [Lane; N];
 
-    /// The kernel the processor runs: the AVX lanes where it has them, else the portable ones.
-    fn four_pairs(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+    /// The four-lane kernel the processor runs: the AVX lanes where it has them, else the
+    /// portable ones.
+    fn four_pairs(group: PairGroup, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {
             // SAFETY: the processor has AVX (checked just above).
@@ -299,16 +300,25 @@ mod tests {
 
     /// Lanes against the scalar law, bit for bit, over sticking contacts of random geometry,
     /// sizes, stiffnesses and histories (both slip tests), and the outcome of the other cases:
-    /// the kernel the processor runs (AVX instructions on x86-64 with AVX) and the portable one.
+    /// the four-lane kernel the processor runs (AVX instructions on x86-64 with AVX), the
+    /// portable one, and the eight-lane AVX-512 kernel where the processor has AVX-512 F.
     #[test]
     fn lanes_have_the_bits_of_the_scalar_contact() {
-        let kernels: [Kernel; 2] = [four_pairs, in_lanes];
+        let kernels: [Kernel<4>; 2] = [four_pairs, in_lanes];
         for kernel in kernels {
             check_kernel(kernel);
         }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            fn eight_pairs(group: PairGroup, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 8] {
+                // SAFETY: the processor has AVX-512 F (checked before this kernel is passed on).
+                unsafe { super::super::pair_lanes_avx512::eight_pairs_avx512(group, arrays, dt, measure_energy) }
+            }
+            check_kernel(eight_pairs);
+        }
     }
 
-    fn check_kernel(kernel: Kernel) {
+    fn check_kernel<const N: usize>(kernel: Kernel<N>) {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut uniform = move || {
             seed ^= seed << 13;
@@ -322,7 +332,7 @@ mod tests {
             let mut pairs = Vec::new();
             let mut constants = Vec::new();
             let mut touch = Vec::new();
-            for l in 0..4 {
+            for l in 0..N {
                 let (ra, rb) = (0.002 + 0.01 * uniform(), 0.002 + 0.01 * uniform());
                 let dir = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5).normalize();
                 // mostly overlaps of up to 3 % of the smaller radius; in one lane of every fifth
@@ -355,14 +365,14 @@ mod tests {
                 touch.push(if !apart && uniform() < 0.9 { Touch::touching(history, 0.5 * uniform()) } else { Touch::default() });
             }
             let before = touch.clone();
-            let (mut energy, mut out) = (vec![PairEnergy::default(); 4], vec![PairForce::default(); 4]);
+            let (mut energy, mut out) = (vec![PairEnergy::default(); N], vec![PairForce::default(); N]);
             // an entry still flagged from the last sub-step is cleared for a pair found apart
             out.iter_mut().for_each(|o| o.touching = trial % 2 == 0);
             let dt = 1e-5 * (0.5 + uniform());
-            let group = FourPairs { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
+            let group = PairGroup { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
             let lanes = kernel(group, &arrays, dt, true);
             groups_apart += lanes.iter().all(|&lane| lane == Lane::Apart) as usize;
-            for l in 0..4 {
+            for l in 0..N {
                 let (a, b) = (2 * l, 2 * l + 1);
                 let offset = arrays.position[b] - arrays.position[a];
                 let distance = offset.norm();

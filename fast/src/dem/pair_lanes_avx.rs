@@ -16,14 +16,14 @@ use spillage_model::particles::state::Vec3;
 
 use super::arrays::ParticleArrays;
 use super::neighbour_list::{PairEnergy, Touch};
-use super::pair_lanes::{FourPairs, Lane};
+use super::pair_lanes::{Lane, PairGroup};
 
 /// Four 3-vectors, one per lane.
 #[derive(Clone, Copy)]
-struct V {
-    x: __m256d,
-    y: __m256d,
-    z: __m256d,
+pub(super) struct V {
+    pub(super) x: __m256d,
+    pub(super) y: __m256d,
+    pub(super) z: __m256d,
 }
 
 /// Lane l of `f(l)`, as one register.
@@ -99,7 +99,7 @@ fn select(when: __m256d, yes: V, no: V) -> V {
 /// which checks its indices once; written without `target_feature` so that it is always
 /// inlined there: a separate call returned its registers through memory).
 #[inline(always)]
-unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
+pub(super) unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
     // SAFETY: the processor has AVX and row i < len is three contiguous f64 (nalgebra's array
     // storage; this function's contract), and the mask reads only those three
     unsafe {
@@ -116,7 +116,7 @@ unsafe fn gather_rows(v: &[Vec3], k: [usize; 4]) -> V {
 /// The processor has AVX (it checks the length itself; written without `target_feature` for
 /// the reason [`gather_rows`] gives).
 #[inline(always)]
-unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
+pub(super) unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
     assert!(touch.len() >= 4);
     // SAFETY: l < 4 ≤ len, and a Touch is four contiguous f64 (repr(C): a Vec3, then an f64)
     let row = |l: usize| unsafe { _mm256_loadu_pd(touch.as_ptr().add(l) as *const f64) };
@@ -128,7 +128,7 @@ unsafe fn gather_touch(touch: &[Touch]) -> (V, __m256d) {
 /// The mask of a row's x, y and z (not the fourth double) for masked loads and stores.
 #[inline]
 #[target_feature(enable = "avx")]
-fn xyz() -> __m256i {
+pub(super) fn xyz() -> __m256i {
     _mm256_set_epi64x(0, -1, -1, -1)
 }
 
@@ -137,7 +137,7 @@ fn xyz() -> __m256i {
 /// # Safety
 /// The processor has AVX.
 #[inline(always)]
-unsafe fn transpose(a: __m256d, b: __m256d, c: __m256d, d: __m256d) -> [__m256d; 4] {
+pub(super) unsafe fn transpose(a: __m256d, b: __m256d, c: __m256d, d: __m256d) -> [__m256d; 4] {
     // SAFETY: the processor has AVX (this function's contract)
     unsafe {
         let (ab_even, ab_odd) = (_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
@@ -164,8 +164,8 @@ fn to_array(v: __m256d) -> [f64; 4] {
 /// them).
 #[inline]
 #[target_feature(enable = "avx")]
-pub fn four_pairs_avx(group: FourPairs, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
-    let FourPairs { pairs, constants, touch, energy, out } = group;
+pub fn four_pairs_avx(group: PairGroup, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
+    let PairGroup { pairs, constants, touch, energy, out } = group;
     let (a, b) = ([0, 1, 2, 3].map(|l| pairs[l].a as usize), [0, 1, 2, 3].map(|l| pairs[l].b as usize));
     // the group's indices checked once, in place of a check per read (they were a tenth of
     // the kernel's instructions)
