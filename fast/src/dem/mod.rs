@@ -5,9 +5,9 @@
 //! * particles as struct-of-arrays in cell order ([`arrays`]), re-sorted every outer step;
 //! * a half neighbour list with a skin over a sorted cell list, contact histories beside its
 //!   pairs ([`neighbour_list`]);
-//! * pair forces evaluated four at a time in AVX lanes ([`pair_lanes`]), the list cut into one
-//!   segment per thread, each pair added to its particles as it is evaluated, every particle's
-//!   sum in the reference's order ([`pair_forces`]);
+//! * pair forces evaluated four or eight at a time in AVX or AVX-512 lanes ([`pair_lanes`]),
+//!   the list cut into one segment per thread, each pair added to its particles as it is
+//!   evaluated, every particle's sum in the reference's order ([`pair_forces`]);
 //! * wall contacts per particle against each wall's bounding-volume hierarchy in its body
 //!   frame, the near triangles kept while the particle stays within the skin
 //!   ([`wall_forces`]), evaluated by the pass that then moves the particle;

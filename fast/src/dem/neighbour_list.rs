@@ -17,6 +17,7 @@ use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{ContactRecord, Partner};
 
 use super::arrays::{Grid, ParticleArrays};
+use super::pair_lanes::WIDEST_GROUP;
 
 /// One listed pair: `a` has the smaller id (the side the history is kept on, as in the
 /// reference); `constants` indexes [`NeighbourList::constants`].
@@ -32,7 +33,7 @@ pub struct Pair {
 /// hundred: the pair loop is bound by memory traffic (with a flag of its own for "touching"
 /// the entry took 40 bytes, a fifth more of a stream that, with the particles' arrays,
 /// overflows a core's 4 MB cache in the 10⁴ bed: README, "The fast particle path"). Laid out
-/// as four f64 (`repr(C)`), which the AVX kernel loads at once.
+/// as four f64 (`repr(C)`), which the AVX and AVX-512 kernels load at once.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub struct Touch {
@@ -80,7 +81,7 @@ pub struct PairEnergy {
 
 /// The forces of a pair's last evaluation, apart from the rest so the per-particle sums read
 /// little memory: force on a (b's is `−force`), torques on a and b. Laid out as nine f64, then
-/// the flag (`repr(C)`), which the AVX kernel stores as three rows: force and torque on a four
+/// the flag (`repr(C)`), which the AVX and AVX-512 kernels store as three rows: force and torque on a four
 /// doubles at a time (each over the next one's first), the torque on b three.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
@@ -327,7 +328,8 @@ impl HistorySources<'_> {
 /// done, segment by segment: the same sums in the same order as one thread takes them.
 #[derive(Default)]
 pub struct Segments {
-    /// Pairs per segment (a multiple of 4, the kernel's group; at least 1).
+    /// Pairs per segment (a multiple of [`WIDEST_GROUP`], so every segment but the last is cut
+    /// into whole groups of either kernel; at least 1).
     pub chunk: usize,
     /// Each particle's first segment (`u32::MAX`: in no pair).
     pub first: Vec<u32>,
@@ -348,7 +350,7 @@ impl Segments {
     /// [`Self::plan`] with segments of at least `min_pairs` pairs (tests cut short lists).
     pub fn plan_with(&mut self, pairs: &[Pair], n: usize, threads: usize, min_pairs: usize) {
         let count = threads.clamp(1, (pairs.len() / min_pairs.max(1)).max(1));
-        self.chunk = (pairs.len().div_ceil(count).div_ceil(4) * 4).max(1);
+        self.chunk = (pairs.len().div_ceil(count).div_ceil(WIDEST_GROUP) * WIDEST_GROUP).max(1);
         self.threads = threads;
         self.first.clear();
         self.first.resize(n, u32::MAX);
@@ -460,7 +462,7 @@ mod tests {
         assert_eq!(listed, brute);
         // each particle's first segment is the first that holds one of its pairs
         list.segments.plan_with(&list.pairs, arrays.len(), 3, 4);
-        assert!(list.pairs.len() > 3 * list.segments.chunk - 4 * 3, "three segments");
+        assert!(list.pairs.len() > 2 * list.segments.chunk && list.segments.chunk % WIDEST_GROUP == 0, "three segments of whole groups");
         for k in 0..arrays.len() {
             let first = list.pairs.chunks(list.segments.chunk).position(|c| c.iter().any(|s| s.a as usize == k || s.b as usize == k));
             assert_eq!(list.segments.first[k], first.map_or(u32::MAX, |s| s as u32), "particle {k}");

@@ -1,17 +1,18 @@
-//! Four listed pairs at once: the pair contact of [`super::pair_forces`] for a continuing
+//! Listed pairs several at once: the pair contact of [`super::pair_forces`] for a continuing
 //! contact, sticking or sliding (the common case in a bed: touching, touched at the last
-//! sub-step, no fault), and for a pair apart that was apart before, in four lanes so the square roots and divisions of four pairs
-//! overlap (one pair's chain of three square roots and a division is what bounds the scalar
-//! loop).
+//! sub-step, no fault), and for a pair apart that was apart before, in lanes so the square
+//! roots and divisions of several pairs overlap (one pair's chain of three square roots and a
+//! division is what bounds the scalar loop). This portable kernel takes four pairs; x86-64
+//! processors run the same lanes in AVX instructions (four pairs, `pair_lanes_avx`) or, with
+//! AVX-512 F, eight (`pair_lanes_avx512`).
 //!
 //! Each lane performs the scalar code's IEEE operations in the scalar code's order (nalgebra's
 //! `dot` is `(x x' + y y') + z z'`, its products and quotients by a scalar are component-wise,
 //! `cross` is `(a_y b_z − a_z b_y, …)`), and nothing is fused, so a lane's result has the bits of
 //! [`hertz_mindlin_force`](spillage_model::closure::contact::hertz_mindlin_force) and the
-//! scalar pair evaluation; the unit test below holds both kernels (this portable one and the
-//! AVX one of `pair_lanes_avx`, which x86-64 processors with AVX run) to the bit. A lane that is
-//! not the common case (a contact beginning or ending, or near a fault) is left to the scalar
-//! evaluation, from its untouched inputs.
+//! scalar pair evaluation; the unit test below holds every kernel the processor has to the
+//! bit. A lane that is not the common case (a contact beginning or ending, or near a fault) is
+//! left to the scalar evaluation, from its untouched inputs.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -135,7 +136,7 @@ impl Neg for V4 {
     }
 }
 
-/// What became of each lane of a group of four pairs ([`in_lanes`]).
+/// What became of each lane of a group of pairs ([`in_lanes`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lane {
     /// Evaluated: the contact continues (its entries are written).
@@ -145,6 +146,10 @@ pub enum Lane {
     /// Left untouched for the scalar evaluation.
     Scalar,
 }
+
+/// The widest group a kernel takes (the AVX-512 kernel's eight): the list's segments are cut
+/// at multiples of it, so only a segment's last group can fall short of a kernel's width.
+pub const WIDEST_GROUP: usize = 8;
 
 /// Consecutive listed pairs (four, or eight for the AVX-512 kernel) and their entries.
 pub struct PairGroup<'a> {
@@ -157,8 +162,9 @@ pub struct PairGroup<'a> {
 
 /// The four pairs of `group` into their entries, in portable lanes (every target); returns
 /// each lane's outcome. Entries of lanes marked [`Lane::Scalar`] are not written. Where the
-/// processor has AVX the pair loop ([`super::pair_forces`]) runs `pair_lanes_avx`'s kernel
-/// instead: the same IEEE operations, so the same bits.
+/// processor has AVX-512 F or AVX the pair loop ([`super::pair_forces`]) runs
+/// `pair_lanes_avx512`'s or `pair_lanes_avx`'s kernel instead: the same IEEE operations, so
+/// the same bits.
 #[inline(always)]
 pub(super) fn in_lanes(group: PairGroup, arrays: &ParticleArrays, dt: f64, measure_energy: bool) -> [Lane; 4] {
     let PairGroup { pairs, constants, touch, energy, out } = group;
@@ -326,7 +332,9 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut checked, mut sliding, mut groups_apart) = ([0usize; 3], 0, 0);
+        // per lane: done, apart, scalar
+        let (mut checked, mut sliding, mut groups_apart) = ([[0usize; 3]; N], 0, 0);
+        let (mut single_apart, mut faults) = ([0usize; N], [0usize; N]);
         for trial in 0..4000 {
             let mut arrays = ParticleArrays::default();
             let mut pairs = Vec::new();
@@ -336,12 +344,23 @@ mod tests {
                 let (ra, rb) = (0.002 + 0.01 * uniform(), 0.002 + 0.01 * uniform());
                 let dir = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5).normalize();
                 // mostly overlaps of up to 3 % of the smaller radius; in one lane of every fifth
-                // group a pair that may be apart and not touched before; every seventh group four
-                // pairs apart by 1–3 % (the kernel returns before the contact law)
+                // group (a different lane each time) a pair that may be apart and not touched
+                // before; in one lane of every eleventh an overlap near a fault (beyond
+                // MAX_OVERLAP_RATIO of the smaller radius, left to the scalar code); every
+                // seventh group all its pairs apart by 1–3 % (the kernel returns before the
+                // contact law)
                 let all_apart = trial % 7 == 3;
-                let apart = all_apart || (l == 3 && trial % 5 == 0);
+                let apart = all_apart || (l == (trial / 5) % N && trial % 5 == 0);
+                let near_fault = !all_apart && l == (trial / 11) % N && trial % 11 == 4;
                 let u = uniform();
-                let overlap = ra.min(rb) * if all_apart { -0.01 - 0.02 * u } else { 0.03 * u - if apart { 0.02 } else { 0.0 } };
+                let overlap = ra.min(rb)
+                    * if all_apart {
+                        -0.01 - 0.02 * u
+                    } else if near_fault {
+                        MAX_OVERLAP_RATIO * (1.0 + 0.2 * u)
+                    } else {
+                        0.03 * u - if apart { 0.02 } else { 0.0 }
+                    };
                 let xa = Vec3::new(uniform(), uniform(), uniform());
                 for (r, x) in [(ra, xa), (rb, xa + dir * (ra + rb - overlap))] {
                     arrays.radius.push(r);
@@ -371,15 +390,27 @@ mod tests {
             let dt = 1e-5 * (0.5 + uniform());
             let group = PairGroup { pairs: &pairs, constants: &constants, touch: &mut touch, energy: &mut energy, out: &mut out };
             let lanes = kernel(group, &arrays, dt, true);
-            groups_apart += lanes.iter().all(|&lane| lane == Lane::Apart) as usize;
+            let all_apart = lanes.iter().all(|&lane| lane == Lane::Apart);
+            groups_apart += all_apart as usize;
             for l in 0..N {
                 let (a, b) = (2 * l, 2 * l + 1);
                 let offset = arrays.position[b] - arrays.position[a];
                 let distance = offset.norm();
                 let (ra, rb) = (arrays.radius[a], arrays.radius[b]);
+                // the outcome the scalar tests give this lane, whatever the others are
+                let (touching, active) = (distance < ra + rb, before[l].active());
+                let near_fault = distance == 0.0 || ra + rb - distance > MAX_OVERLAP_RATIO * ra.min(rb);
+                let expected = match (touching, active) {
+                    (false, false) => Lane::Apart,
+                    (true, true) if !near_fault => Lane::Done,
+                    _ => Lane::Scalar,
+                };
+                assert_eq!(lanes[l], expected, "trial {trial} lane {l}: touching {touching}, touched before {active}, near a fault {near_fault}");
+                single_apart[l] += (lanes[l] == Lane::Apart && !all_apart) as usize;
+                faults[l] += (touching && active && near_fault) as usize;
                 match lanes[l] {
                     Lane::Done => {
-                        checked[0] += 1;
+                        checked[l][0] += 1;
                         let normal = offset / distance;
                         let v_rel = arrays.velocity[a] + arrays.spin[a].cross(&(ra * normal)) - (arrays.velocity[b] + arrays.spin[b].cross(&(-rb * normal)));
                         let mut delta = before[l].tangential_overlap;
@@ -396,20 +427,27 @@ mod tests {
                         assert_eq!(energy[l].overlap.to_bits(), overlap.to_bits());
                     }
                     Lane::Apart => {
-                        checked[1] += 1;
+                        checked[l][1] += 1;
                         assert!(!(distance < ra + rb) && !before[l].active() && !out[l].touching);
                     }
                     Lane::Scalar => {
-                        checked[2] += 1;
+                        checked[l][2] += 1;
                         assert_eq!(touch[l].tangential_overlap, before[l].tangential_overlap, "a scalar lane is left untouched");
                     }
                 }
             }
         }
-        // each outcome is exercised (most lanes stick; about 500 of the 800 single lanes that
-        // may be apart are, and the 571 groups of four apart pairs)
-        assert!(checked.iter().all(|&n| n > 300), "lanes done / apart / scalar: {checked:?}");
-        assert_eq!(groups_apart, 571, "groups of four pairs apart");
-        assert!(sliding > 300 && checked[0] - sliding > 300, "of {} lanes done, {sliding} slide", checked[0]);
+        // each outcome is exercised in every lane (most lanes stick; every lane is apart in the
+        // 571 groups of pairs all apart, alone in about 60 % of the 800 / N groups whose single
+        // lane may be apart, and near a fault in 364 / N groups), and the law both sticks and
+        // slides
+        for l in 0..N {
+            let [done, apart, scalar] = checked[l];
+            assert!(done > 1000 && apart > 571 && scalar > 100, "lane {l} of {N}: done {done}, apart {apart}, scalar {scalar}");
+            assert!(single_apart[l] > 20 && faults[l] > 20, "lane {l} of {N}: alone apart {}, near a fault {}", single_apart[l], faults[l]);
+        }
+        assert_eq!(groups_apart, 571, "groups of pairs all apart");
+        let done: usize = checked.iter().map(|c| c[0]).sum();
+        assert!(sliding > 300 && done - sliding > 300, "of {done} lanes done, {sliding} slide");
     }
 }

@@ -1,7 +1,7 @@
 //! [`super::pair_lanes`]'s four pairs written out in AVX instructions: the same IEEE
 //! operations in the same order, lane by lane (nothing fused, divisions and square roots as
 //! such), so each lane keeps the bits of the scalar contact; the unit test in
-//! [`super::pair_lanes`] holds all three to the bit.
+//! [`super::pair_lanes`] holds it to the bit with the portable and the AVX-512 kernels.
 //!
 //! Written with the compiler left to vectorise the lane arrays, the kernel came out as 1900
 //! instructions, most of them spills, shuffles and scalar square roots; the selects of the
