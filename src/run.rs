@@ -110,6 +110,10 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let mut summary = Summary::new(&case.case.name, solver.name());
     summary.set_detail("case_file", case.path.display().to_string());
     summary.set_detail("threads", threads as u64);
+    if case.particles.is_some() && opts.solver == SolverChoice::Fast {
+        // the particle-steps per second of a run depend on it (README, "The fast particle path")
+        summary.set_detail("dem_pair_kernel", spillage_fast::dem::pair_forces::PairKernel::detect().describe());
+    }
     summary.set_detail("derived", serde_json::to_value(spillage::check::derive(&case))?);
     if let Some(head) = &case.cutter_head {
         // the current past the head (cutter_head::current), [0, 0, 0] in still water

@@ -259,6 +259,10 @@ fn a_restarted_particle_run_continues_bit_for_bit_with_its_contacts() {
     for field in ["id", "diameter", "velocity", "angular_velocity", "contacts"] {
         assert!(last.point_field(field).is_some(), "particle field {field} missing");
     }
+    // a fast DEM run names the pair kernel this processor took (its speed depends on it)
+    let summary = Summary::read(&whole.join("summary.json")).unwrap();
+    let kernel = summary.details["dem_pair_kernel"].as_str().expect("dem_pair_kernel in the summary");
+    assert!(["AVX-512, eight pairs a group", "AVX, four pairs a group", "portable lanes, four pairs a group"].contains(&kernel), "{kernel}");
 }
 
 /// A two-way coupled run writes what the phases exchange (issue 13, output): α_c and the

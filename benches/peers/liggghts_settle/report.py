@@ -136,6 +136,8 @@ def spillage(out, params_path, requested):
         "mean_z": mean_z,
         "start_particles": int(p["n_particles"]),
         "status": summary["details"].get("status", "?"),
+        # the fast DEM's pair kernel on this processor (AVX-512, AVX or portable lanes)
+        "pair_kernel": summary["details"].get("dem_pair_kernel"),
     }
     # run.sh's ROUNDS: which round of the codes' turns the run was
     row["round"] = int(os.environ.get("ROUND", "1"))
@@ -188,6 +190,9 @@ def table(path):
             # each round's ratio is taken within the round (the machine drifts between rounds)
             listed = ", ".join(f"{v:.3f}" for v in values)
             print(f"{name:<30} {statistics.median(values):7.3f}  median of {len(values)} rounds ({listed})  {note}")
+    kernels = sorted({r["pair_kernel"] for r in rows if r.get("pair_kernel")})
+    if kernels:
+        print(f"spillage fast pair kernel: {', '.join(kernels)}")
     if any(r.get("status", "").startswith("failed") for r in rows):
         print("note: a spillage run failed (see its summary.json)")
     if len({r["substeps"] for r in rows}) > 1:

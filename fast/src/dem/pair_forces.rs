@@ -190,22 +190,19 @@ struct RunOfA {
 }
 
 impl Segment<'_> {
-    /// The segment through the kernel the processor runs best: the AVX-512 lanes (eight pairs
-    /// at once) or the AVX lanes (four), called from a loop compiled for them (the processor is
-    /// asked once per segment, not per group), where the processor has them; else the portable
-    /// lanes.
+    /// The segment through the kernel the processor runs best ([`PairKernel::detect`]),
+    /// called from a loop compiled for its instructions (the processor is asked once per
+    /// segment, not per group).
     fn evaluate(self, entries: Entries, arrays: &ParticleArrays, context: &PairContext) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f") && eight_lanes_allowed() {
-            // SAFETY: the processor has AVX-512 F (checked just above).
-            return unsafe { self.evaluate_avx512(entries, arrays, context) };
+        match PairKernel::detect() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: detect() found AVX-512 F on this processor.
+            PairKernel::Avx512 => unsafe { self.evaluate_avx512(entries, arrays, context) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: detect() found AVX on this processor.
+            PairKernel::Avx => unsafe { self.evaluate_avx(entries, arrays, context) },
+            _ => self.evaluate_with(super::pair_lanes::in_lanes, entries, arrays, context),
         }
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the processor has AVX (checked just above).
-            return unsafe { self.evaluate_avx(entries, arrays, context) };
-        }
-        self.evaluate_with(super::pair_lanes::in_lanes, entries, arrays, context)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -386,6 +383,43 @@ pub fn first_fault(list: &NeighbourList, arrays: &ParticleArrays, fed_from: u64)
         })
         .min_by_key(|(ids, _)| *ids)
         .map(|(_, fault)| fault)
+}
+
+/// The pair kernel a run takes: the widest lanes this processor has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairKernel {
+    /// Eight pairs a group in AVX-512 registers (`pair_lanes_avx512`).
+    Avx512,
+    /// Four pairs a group in AVX registers (`pair_lanes_avx`).
+    Avx,
+    /// Four pairs a group in portable lanes (`pair_lanes::in_lanes`).
+    Portable,
+}
+
+impl PairKernel {
+    /// The kernel for this processor (its features are looked up once and cached by std).
+    #[inline]
+    pub fn detect() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") && eight_lanes_allowed() {
+                return PairKernel::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx") {
+                return PairKernel::Avx;
+            }
+        }
+        PairKernel::Portable
+    }
+
+    /// As a run's summary names it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            PairKernel::Avx512 => "AVX-512, eight pairs a group",
+            PairKernel::Avx => "AVX, four pairs a group",
+            PairKernel::Portable => "portable lanes, four pairs a group",
+        }
+    }
 }
 
 /// Whether the pair loop may take eight lanes where the processor has them (always, but for
