@@ -88,6 +88,11 @@ pub trait BeforeMove: Send {
         torque: &mut Vec3,
         count: &mut u32,
     );
+
+    /// Called once the pass has moved every particle of the block (its state still near in
+    /// the cache): nothing by default.
+    #[inline]
+    fn after_block(&mut self) {}
 }
 
 /// Nothing to add: the first pass of a step, or no walls.
@@ -256,6 +261,7 @@ impl PassKernel<'_> {
             sums.max_displacement_sq =
                 if displacement.is_nan() || sums.max_displacement_sq.is_nan() { f64::NAN } else { sums.max_displacement_sq.max(displacement) };
         }
+        before.after_block();
         sums
     }
 }

@@ -44,7 +44,7 @@ use arrays::ParticleArrays;
 use integrate::{advance_particles, NothingToAdd, Pass, PassSums, StepSums, BLOCK};
 use neighbour_list::{History, NeighbourList};
 use pair_forces::{evaluate_and_add, first_fault, PairContext};
-use wall_forces::{BlockWalls, CandidateMarks, FarFromWalls, NearTriangles, WallContext, WallSide};
+use wall_forces::{BlockWalls, CandidateMarks, FarFromWalls, NearTriangles, WallContext, WallFound, WallSide};
 
 /// The neighbour-list skin as a fraction of the largest diameter: pairs closer than this gap
 /// are listed, and the list lasts until a particle has moved half of it (a tenth of a diameter
@@ -76,6 +76,9 @@ pub struct FastDem {
     /// serial pass over the walls' results reads only these sides (a dense bed has a few
     /// particles at its walls; a pass over all would bound the scaling with threads).
     at_wall: Vec<bool>,
+    /// Per block of the pass ([`BLOCK`]): what its particles at a wall found in the last
+    /// sub-step, in internal order.
+    wall_found: Vec<Vec<WallFound>>,
     /// Which particles the wall pass looks at while the neighbour list and every wall's pose
     /// stay as they were when it was marked ([`WallCandidates`]).
     candidates: WallCandidates,
@@ -140,6 +143,7 @@ impl FastDem {
             near: Vec::new(),
             far: Vec::new(),
             at_wall: Vec::new(),
+            wall_found: Vec::new(),
             candidates: WallCandidates::default(),
             frames: Vec::new(),
             poses: Vec::new(),
@@ -363,6 +367,8 @@ impl FastDem {
             let at_wall = DisjointSlices::new(&mut self.at_wall);
             let may_touch = DisjointSlices::new(&mut candidates.may_touch);
             let near = DisjointSlices::new(&mut self.near);
+            self.wall_found.resize_with(n.div_ceil(BLOCK), Vec::new);
+            let found = DisjointSlices::new(&mut self.wall_found);
             // block b's share of the particles' wall state (the pass makes each block's once)
             let before = |b: usize| {
                 let range = b * BLOCK..n.min((b + 1) * BLOCK);
@@ -376,6 +382,8 @@ impl FastDem {
                         at_wall: at_wall.range(range.clone()),
                         may_touch: may_touch.range(range.clone()),
                         near: near.range(range.start * n_walls..range.end * n_walls),
+                        start: range.start,
+                        found: &mut found.range(b..b + 1)[0],
                     }
                 }
             };
@@ -385,6 +393,7 @@ impl FastDem {
             }
             pass
         } else {
+            self.wall_found.clear();
             advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt, self.list.built_at(), team, |_| NothingToAdd)
         };
 
@@ -402,13 +411,19 @@ impl FastDem {
         }
         let mut wall_fault: Option<(u64, Fault)> = None;
         let first_impact = impacts.len();
-        // a side without contact, impact or fault adds zeros (exactly: the sums keep their bits)
-        for (k, side) in self.wall_sides.iter().enumerate().filter(|&(k, _)| self.at_wall[k]) {
-            totals.contacts += side.contacts as usize;
-            totals.max_overlap_ratio = totals.max_overlap_ratio.max(side.max_overlap_ratio);
-            totals.elastic += side.elastic;
-            totals.placed += side.placed;
-            totals.wall_power += side.power;
+        // a side without contact, impact or fault adds zeros (exactly: the sums keep their bits);
+        // the blocks' particles at a wall in block order are the particles at a wall in order
+        debug_assert_eq!(self.wall_found.iter().map(Vec::len).sum::<usize>(), self.at_wall.iter().filter(|at| **at).count());
+        for found in self.wall_found.iter().flatten() {
+            totals.contacts += found.contacts as usize;
+            totals.max_overlap_ratio = totals.max_overlap_ratio.max(found.max_overlap_ratio);
+            totals.elastic += found.elastic;
+            totals.placed += found.placed;
+            totals.wall_power += found.power;
+            if !found.eventful {
+                continue;
+            }
+            let (k, side) = (found.k as usize, &self.wall_sides[found.k as usize]);
             if let Some(f) = &side.fault {
                 let id = self.arrays.id[k];
                 if wall_fault.as_ref().is_none_or(|(first, _)| id < *first) {
