@@ -53,11 +53,10 @@ pub fn evaluate_and_add(
     team: &Team,
 ) -> bool {
     if list.segments.threads != rayon::current_num_threads() || list.segments.first.len() != arrays.len() {
-        list.segments.plan(&list.pairs, arrays.len(), rayon::current_num_threads());
+        list.segments.plan(&list.pairs, &list.touch, arrays.len(), rayon::current_num_threads());
     }
     let NeighbourList { pairs, constants, touch, records, energy, forces, segments, set_aside, .. } = list;
-    let chunk = segments.chunk;
-    let n_segments = pairs.len().div_ceil(chunk);
+    let n_segments = segments.count();
     set_aside.resize_with(n_segments, Vec::new);
     let sums = SharedSums::new(force, torque, count);
     let (touch, records, energy, kept, aside) =
@@ -65,7 +64,7 @@ pub fn evaluate_and_add(
     let fault = AtomicBool::new(false);
     // each segment is one piece of the part, run once
     team.run(n_segments, &|s| {
-        let range = s * chunk..pairs.len().min((s + 1) * chunk);
+        let range = segments.bounds[s]..segments.bounds[s + 1];
         // SAFETY: segment s's own range of the pairs' entries, and its own buffer
         let (touch, records, energy, kept, aside) = unsafe {
             (touch.range(range.clone()), records.range(range.clone()), energy.range(range.clone()), kept.range(range.clone()), &mut aside.range(s..s + 1)[0])
@@ -485,7 +484,7 @@ mod tests {
                 let mut list = NeighbourList::default();
                 list.skin = 0.001;
                 list.build(&arrays, &materials, History::Records(&[]));
-                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4);
+                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |_| 1);
                 // planned for these threads: evaluate_and_add keeps the cut
                 list.segments.threads = threads;
                 let n = arrays.len();
