@@ -153,10 +153,13 @@ pub fn advance_particles<B: BeforeMove>(
     if fluid.is_empty() && forces.rotating_frame.is_none() {
         // without a fluid or a rotating frame the non-contact update is gravity alone,
         // `v + h g`: [`NonContactForces::update`]'s dry branch, the same operations, inline
-        let (gravity, motion) = (forces.gravity, forces.motion);
+        let gravity = forces.gravity;
         team.run(blocks_of(n), &|b| {
             let (start, moving, contact, _, out) = block(b);
-            *out = kernel.block(start, moving, contact, &mut before(b), |_, v, _| *v = motion.kick(*v, h * gravity));
+            *out = match forces.motion {
+                Motion::Free => kernel.block::<true>(start, moving, contact, &mut before(b), |_, v, _| *v = Motion::Free.kick(*v, h * gravity)),
+                Motion::Held => kernel.block::<false>(start, moving, contact, &mut before(b), |_, v, _| *v = Motion::Held.kick(*v, h * gravity)),
+            };
         });
     } else {
         // half the non-contact update of particle k, its load share into `load`
@@ -177,7 +180,11 @@ pub fn advance_particles<B: BeforeMove>(
         };
         team.run(blocks_of(n), &|b| {
             let (start, moving, contact, load, out) = block(b);
-            *out = kernel.block(start, moving, contact, &mut before(b), |k, v, x| update(k, v, x, &mut load[k - start]));
+            let update = |k: usize, v: &mut Vec3, x: &Vec3| update(k, v, x, &mut load[k - start]);
+            *out = match forces.motion {
+                Motion::Free => kernel.block::<true>(start, moving, contact, &mut before(b), update),
+                Motion::Held => kernel.block::<false>(start, moving, contact, &mut before(b), update),
+            };
         });
     }
     let mut total = PassSums { work_second: 0.0, work_first: 0.0, max_displacement_sq: 0.0 };
@@ -211,9 +218,10 @@ impl PassKernel<'_> {
     /// The pass over the block of particles from `start` (`moving`: their velocities, spins and
     /// positions; `contact`: their contact forces, torques and counts, which `before`
     /// completes particle by particle); `update(k, v, x)` takes half the non-contact update of
-    /// particle k.
+    /// particle k. `FREE` is the pass's [`Motion`] (free, else held) as a constant, so the
+    /// kicks and drifts take no branch per particle.
     #[inline]
-    fn block(
+    fn block<const FREE: bool>(
         &self,
         start: usize,
         moving: Moving,
@@ -221,10 +229,15 @@ impl PassKernel<'_> {
         before: &mut impl BeforeMove,
         mut update: impl FnMut(usize, &mut Vec3, &Vec3),
     ) -> BlockSums {
-        let Self { pass, h, dt, motion, .. } = *self;
+        let Self { pass, h, dt, .. } = *self;
+        debug_assert_eq!(self.motion, if FREE { Motion::Free } else { Motion::Held });
+        let motion = if FREE { Motion::Free } else { Motion::Held };
         let (velocity, spin, position) = moving;
         let (force, torque, count) = contact;
         let mut sums = BlockSums::default();
+        // whether a displacement was not a number (no build positions, or a particle gone
+        // wrong): the block's largest is then NaN
+        let mut not_a_number = false;
         for (j, ((v, w), x)) in velocity.iter_mut().zip(spin.iter_mut()).zip(position.iter_mut()).enumerate() {
             let k = start + j;
             before.before_move(j, k, &self.properties, x, v, w, &mut force[j], &mut torque[j], &mut count[j]);
@@ -258,8 +271,11 @@ impl PassKernel<'_> {
                 Some(origins) => (*x - origins[k]).norm_squared(),
                 None => f64::NAN,
             };
-            sums.max_displacement_sq =
-                if displacement.is_nan() || sums.max_displacement_sq.is_nan() { f64::NAN } else { sums.max_displacement_sq.max(displacement) };
+            not_a_number |= displacement.is_nan();
+            sums.max_displacement_sq = sums.max_displacement_sq.max(displacement);
+        }
+        if not_a_number {
+            sums.max_displacement_sq = f64::NAN;
         }
         before.after_block();
         sums
