@@ -77,7 +77,8 @@ pub struct FastDem {
     /// particles at its walls; a pass over all would bound the scaling with threads).
     at_wall: Vec<bool>,
     /// Per block of the pass ([`BLOCK`]): what its particles at a wall found in the last
-    /// sub-step, in internal order.
+    /// sub-step, in internal order (after a pair fault, which returns before the pass, still
+    /// the sub-step before's, and not read).
     wall_found: Vec<Vec<WallFound>>,
     /// Which particles the wall pass looks at while the neighbour list and every wall's pose
     /// stay as they were when it was marked ([`WallCandidates`]).
@@ -413,7 +414,7 @@ impl FastDem {
         let first_impact = impacts.len();
         // a side without contact, impact or fault adds zeros (exactly: the sums keep their bits);
         // the blocks' particles at a wall in block order are the particles at a wall in order
-        debug_assert_eq!(self.wall_found.iter().map(Vec::len).sum::<usize>(), self.at_wall.iter().filter(|at| **at).count());
+        debug_assert!(self.wall_found.iter().flatten().map(|f| f.k as usize).eq(self.at_wall.iter().enumerate().filter(|(_, at)| **at).map(|(k, _)| k)));
         for found in self.wall_found.iter().flatten() {
             totals.contacts += found.contacts as usize;
             totals.max_overlap_ratio = totals.max_overlap_ratio.max(found.max_overlap_ratio);

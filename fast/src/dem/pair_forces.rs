@@ -52,7 +52,8 @@ pub fn evaluate_and_add(
     count: &mut [u32],
     team: &Team,
 ) -> bool {
-    if list.segments.threads != rayon::current_num_threads() || list.segments.first.len() != arrays.len() {
+    let planned = list.segments.bounds.last().copied().unwrap_or(0) == list.pairs.len() && list.segments.first.len() == arrays.len();
+    if list.segments.threads != rayon::current_num_threads() || !planned {
         list.segments.plan(&list.pairs, &list.touch, arrays.len(), rayon::current_num_threads());
     }
     let NeighbourList { pairs, constants, touch, records, energy, forces, segments, set_aside, .. } = list;
@@ -472,19 +473,26 @@ mod tests {
     }
 
     /// Three sub-steps' pair sums with the list cut into many segments on several threads have
-    /// the bits of one segment on one thread, new and continuing contacts alike, whichever
-    /// width of lanes the kernel takes.
+    /// the bits of one segment on one thread, new and continuing contacts alike, wherever the
+    /// cuts fall and whichever width of lanes the kernel takes.
     #[test]
     fn segments_on_several_threads_sum_in_the_order_of_one() {
         let (arrays, materials) = heap(1500);
         let context = PairContext { materials: &materials, wet_fluid: None, time: 0.0, dt: 1e-5, fed_from: u64::MAX, energy: false };
-        let sums = |threads: usize, segments: usize| {
+        // `skewed`: the first third of the pairs weighs five times the rest, so the cuts fall
+        // unevenly (the pair loop balances segments by weight)
+        let sums = |threads: usize, segments: usize, skewed: bool| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pool.install(|| {
                 let mut list = NeighbourList::default();
                 list.skin = 0.001;
                 list.build(&arrays, &materials, History::Records(&[]));
-                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |_| 1);
+                let third = list.pairs.len() / 3;
+                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |i| if skewed && i < third { 5 } else { 1 });
+                if skewed {
+                    let lengths: Vec<usize> = list.segments.bounds.windows(2).map(|w| w[1] - w[0]).collect();
+                    assert!(lengths.len() == segments && lengths[0] * 3 < lengths[segments - 1], "uneven cuts: {lengths:?}");
+                }
                 // planned for these threads: evaluate_and_add keeps the cut
                 list.segments.threads = threads;
                 let n = arrays.len();
@@ -499,13 +507,15 @@ mod tests {
                 (all, list.pairs.len(), aside)
             })
         };
-        let (one, pairs, _) = sums(1, 1);
+        let (one, pairs, _) = sums(1, 1, false);
         let touching = one[0].2.iter().map(|&c| c as usize).sum::<usize>() / 2;
         assert!(pairs > 2000 && touching > pairs / 2, "{pairs} pairs, {touching} touching: the test needs a dense heap");
         // and on a processor with eight lanes, four lanes give the same bits too
-        for (threads, segments, four_lanes) in [(2, 2, false), (3, 7, false), (1, 1, true), (3, 7, true)] {
+        for (threads, segments, four_lanes, skewed) in
+            [(2, 2, false, false), (3, 7, false, false), (3, 7, false, true), (1, 1, true, false), (3, 7, true, false)]
+        {
             FOUR_LANES_ONLY.store(four_lanes, Ordering::Relaxed);
-            let (many, _, aside) = sums(threads, segments);
+            let (many, _, aside) = sums(threads, segments, skewed);
             FOUR_LANES_ONLY.store(false, Ordering::Relaxed);
             assert!(segments == 1 || aside > 200, "{segments} segments set aside only {aside} contributions");
             for (sub, (a, b)) in one.iter().zip(&many).enumerate() {
