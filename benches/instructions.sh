@@ -4,6 +4,9 @@
 # scatter by 10–25 % between identical runs (README, "The fast particle path"), which hides
 # any change of a few per cent; the instruction count of the same run is the same to < 0.01 %
 # every time. It is a proxy: it does not see cache misses, and says nothing about threads.
+# Valgrind does not run AVX-512, so under it the pair loop takes the AVX kernel even where the
+# processor would take the AVX-512 one (fast/src/dem/pair_lanes_avx512.rs): the counts are the
+# AVX path's.
 # Wall-clock speed stays measured by `cargo bench --bench dem_settle` and the LIGGGHTS side by
 # side (benches/peers/liggghts_settle/run.sh).
 #

@@ -10,9 +10,10 @@
 //! instructions too far behind to overlap it. Eight lanes take one chain for twice the pairs,
 //! with half the arithmetic per pair (the gathers, transposes and row stores stay as many).
 //! Measured on the 10⁴ settling bed (`cases/bench/settle_box_10k.toml`, one thread, AMD EPYC
-//! with AVX-512): 0.8 % more instructions than the AVX kernel's run (cachegrind,
-//! `benches/instructions.sh`) and 7 % less time (median of 8 interleaved pairs of runs), so
-//! the chain's latency, not the instruction count, bounded the four-lane loop.
+//! with AVX-512): 7 % less time than the AVX kernel (median of 8 interleaved pairs of runs;
+//! 6 % at 10⁵), so the chain's latency, not the instruction count, bounded the four-lane
+//! loop. (`benches/instructions.sh` cannot count this kernel: valgrind does not run AVX-512,
+//! so under it the loop takes the AVX kernel.)
 
 use std::arch::x86_64::*;
 
