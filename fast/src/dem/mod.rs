@@ -72,9 +72,10 @@ pub struct FastDem {
     near: Vec<NearTriangles>,
     /// Whether each particle is known to be far from every wall (internal order).
     far: Vec<FarFromWalls>,
-    /// Whether the last evaluation gave each particle a wall contact, impact or fault: the
-    /// serial pass over the walls' results reads only these sides (a dense bed has a few
-    /// particles at its walls; a pass over all would bound the scaling with threads).
+    /// Whether the last evaluation gave each particle a wall contact, impact or fault: each
+    /// block of the pass lists its own into `wall_found`, and the serial totals read only those
+    /// (a dense bed has a few particles at its walls; a pass over all would bound the scaling
+    /// with threads).
     at_wall: Vec<bool>,
     /// Per block of the pass ([`BLOCK`]): what its particles at a wall found in the last
     /// sub-step, in internal order (after a pair fault, which returns before the pass, still
