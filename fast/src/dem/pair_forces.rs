@@ -402,10 +402,11 @@ impl PairKernel {
     pub fn detect() -> Self {
         #[cfg(target_arch = "x86_64")]
         {
-            if std::arch::is_x86_feature_detected!("avx512f") && eight_lanes_allowed() {
+            let widest = widest_allowed();
+            if std::arch::is_x86_feature_detected!("avx512f") && widest == PairKernel::Avx512 {
                 return PairKernel::Avx512;
             }
-            if std::arch::is_x86_feature_detected!("avx") {
+            if std::arch::is_x86_feature_detected!("avx") && widest != PairKernel::Portable {
                 return PairKernel::Avx;
             }
         }
@@ -422,23 +423,28 @@ impl PairKernel {
     }
 }
 
-/// Whether the pair loop may take eight lanes where the processor has them (always, but for
-/// the test that runs it on four too).
+/// The widest kernel the pair loop may take where the processor has it: any, but for the test
+/// that runs the loop through the narrower ones too.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn eight_lanes_allowed() -> bool {
+fn widest_allowed() -> PairKernel {
     #[cfg(test)]
-    return !tests::FOUR_LANES_ONLY.load(Ordering::Relaxed);
+    return match tests::WIDEST_KERNEL.load(Ordering::Relaxed) {
+        0 => PairKernel::Avx512,
+        1 => PairKernel::Avx,
+        _ => PairKernel::Portable,
+    };
     #[cfg(not(test))]
-    true
+    PairKernel::Avx512
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Makes the pair loop take four lanes where the processor has eight (the sums must not
-    /// depend on it, so flipping it never changes another test's result).
-    pub static FOUR_LANES_ONLY: AtomicBool = AtomicBool::new(false);
+    /// The widest kernel the pair loop may take (0: AVX-512, 1: AVX, 2: portable lanes): the
+    /// sums must not depend on it, so setting it never changes another test's result.
+    pub static WIDEST_KERNEL: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
     use crate::dem::neighbour_list::History;
     use crate::team::with_team;
     use spillage_model::closure::contact::SlipTest;
@@ -510,13 +516,13 @@ mod tests {
         let (one, pairs, _) = sums(1, 1, false);
         let touching = one[0].2.iter().map(|&c| c as usize).sum::<usize>() / 2;
         assert!(pairs > 2000 && touching > pairs / 2, "{pairs} pairs, {touching} touching: the test needs a dense heap");
-        // and on a processor with eight lanes, four lanes give the same bits too
-        for (threads, segments, four_lanes, skewed) in
-            [(2, 2, false, false), (3, 7, false, false), (3, 7, false, true), (1, 1, true, false), (3, 7, true, false)]
-        {
-            FOUR_LANES_ONLY.store(four_lanes, Ordering::Relaxed);
+        // and the narrower kernels (four AVX lanes, four portable ones: what a processor without
+        // AVX-512 or without AVX runs) give the same bits too
+        let cases = [(2, 2, 0, false), (3, 7, 0, false), (3, 7, 0, true), (1, 1, 1, false), (3, 7, 1, false), (1, 1, 2, false), (3, 7, 2, true)];
+        for (threads, segments, widest, skewed) in cases {
+            WIDEST_KERNEL.store(widest, Ordering::Relaxed);
             let (many, _, aside) = sums(threads, segments, skewed);
-            FOUR_LANES_ONLY.store(false, Ordering::Relaxed);
+            WIDEST_KERNEL.store(0, Ordering::Relaxed);
             assert!(segments == 1 || aside > 200, "{segments} segments set aside only {aside} contributions");
             for (sub, (a, b)) in one.iter().zip(&many).enumerate() {
                 // the first particle whose sum differs in any bit
