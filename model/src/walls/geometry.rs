@@ -3,9 +3,10 @@
 
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as GlamVector;
-use parry3d_f64::query::{PointQuery, PointQueryWithLocation};
-use parry3d_f64::shape::{TriMesh, TrianglePointLocation};
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::TriMesh;
 
+use super::projection::{Feature, ProjectedTriangle};
 use super::state::Vec3;
 
 /// A plain triangle mesh: vertices and counter-clockwise vertex triples.
@@ -155,6 +156,8 @@ pub struct WallMesh {
     /// Each triangle's first vertex and unit normal (+z for a degenerate triangle), for the
     /// plane test that spares most far triangles their projection.
     planes: Vec<(Vec3, Vec3)>,
+    /// Each triangle with its edges, for the projection of a sphere centre.
+    projections: Vec<ProjectedTriangle>,
 }
 
 impl WallMesh {
@@ -167,7 +170,8 @@ impl WallMesh {
                 (from_glam(triangle.a), triangle.normal().map(from_glam).unwrap_or_else(Vec3::z))
             })
             .collect();
-        Ok(WallMesh { trimesh, planes })
+        let projections = (0..trimesh.num_triangles() as u32).map(|id| ProjectedTriangle::new(&trimesh.triangle(id))).collect();
+        Ok(WallMesh { trimesh, planes, projections })
     }
 
     /// The contacts of a sphere (centre, radius) with the mesh, each surface feature counted
@@ -220,7 +224,7 @@ impl WallMesh {
     /// within `radius`), into `scratch.accepted`; the buffers are reused, nothing is allocated
     /// once they have grown.
     pub fn sphere_contacts_among(&self, ids: &[u32], centre: Vec3, radius: f64, scratch: &mut ContactScratch) {
-        let c = to_glam(centre);
+        let c = [centre.x, centre.y, centre.z];
         let candidates = &mut scratch.candidates;
         candidates.clear();
         scratch.accepted.clear();
@@ -232,12 +236,11 @@ impl WallMesh {
             if (centre - corner).dot(&normal).abs() > plane_limit {
                 continue;
             }
-            let triangle = self.trimesh.triangle(id);
-            let (projection, location) = triangle.project_local_point_and_get_location(c, false);
-            let point = from_glam(projection.point);
+            let (projection, feature) = self.projections[id as usize].project(c);
+            let point = Vec3::from(projection);
             let distance = (point - centre).norm();
             if distance < radius {
-                let on_face = matches!(location, TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid);
+                let on_face = feature == Feature::Face;
                 candidates.push(Candidate { contact: MeshContact { triangle: id, point, distance, triangle_normal: normal }, on_face });
             }
         }
@@ -258,9 +261,8 @@ impl WallMesh {
                 // point is p itself (both sides of a convex edge, kept once above).
                 let continues = candidates.iter().enumerate().any(|(j, other)| {
                     j != k && other.contact.triangle != candidate.contact.triangle && (other.contact.point - p).norm() > same_point && {
-                        let t = self.trimesh.triangle(other.contact.triangle);
-                        let (proj, _) = t.project_local_point_and_get_location(to_glam(p), false);
-                        (from_glam(proj.point) - p).norm() <= same_point
+                        let (projection, _) = self.projections[other.contact.triangle as usize].project([p.x, p.y, p.z]);
+                        (Vec3::from(projection) - p).norm() <= same_point
                     }
                 });
                 if continues {

@@ -5,6 +5,7 @@
 //! spillage-and-flow-verification.md §2.11).
 
 pub mod geometry;
+pub mod projection;
 pub mod settings;
 pub mod state;
 pub mod stl;
