@@ -26,6 +26,7 @@ pub mod pair_lanes;
 mod pair_lanes_avx;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes_avx512;
+pub mod segments;
 pub mod wall_forces;
 
 use spillage_model::case::Case;

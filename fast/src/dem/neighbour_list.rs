@@ -17,7 +17,7 @@ use spillage_model::particles::state::Vec3;
 use spillage_model::particles::{ContactRecord, Partner};
 
 use super::arrays::{Grid, ParticleArrays};
-use super::pair_lanes::WIDEST_GROUP;
+pub use super::segments::Segments;
 
 /// One listed pair: `a` has the smaller id (the side the history is kept on, as in the
 /// reference); `constants` indexes [`NeighbourList::constants`].
@@ -320,87 +320,6 @@ impl HistorySources<'_> {
     }
 }
 
-/// The listed pairs cut into consecutive segments, one per thread, each evaluated and added to
-/// its particles as it goes ([`super::pair_forces::evaluate_and_add`]). A particle's pair
-/// forces must be summed in list order (ascending partner id, the reference's order), so only
-/// the first segment a particle appears in adds to it directly; later segments set their
-/// contributions aside, and these are added after all segments are done, segment by segment:
-/// the same sums in the same order as one thread takes them, wherever the cuts fall.
-#[derive(Default)]
-pub struct Segments {
-    /// Segment s holds pairs `bounds[s]..bounds[s + 1]`; every cut but the list's end is a
-    /// multiple of [`WIDEST_GROUP`], so only the last segment's last group can fall short of a
-    /// kernel's width. An empty list has no segment (`[0]`).
-    pub bounds: Vec<usize>,
-    /// Each particle's first segment (`u32::MAX`: in no pair).
-    pub first: Vec<u32>,
-    /// The thread count it was planned for.
-    pub threads: usize,
-}
-
-/// Fewest pairs worth a segment of their own (a thread's share below this costs more in
-/// setting aside than it gains).
-const MIN_SEGMENT_PAIRS: usize = 1024;
-
-/// What a pair costs the pair loop, relative to one apart (an estimate: a touching pair takes
-/// the contact law and is added to its particles, a group of pairs all apart returns early).
-/// With segments of equal pair counts, the 10⁵ settling bed's first segment (the lower ids)
-/// took a fifth longer than the second on two threads (28.7 % against 23.5 % of a profile's
-/// samples in the pair kernel) while the other thread waited; cut by these weights, 26.5 %
-/// against 25.6 %.
-fn pair_weight(touch: &Touch) -> u64 {
-    if touch.active() {
-        3
-    } else {
-        1
-    }
-}
-
-impl Segments {
-    /// Plans the segments of `pairs` (their contact histories `touch`) among `n` particles for
-    /// `threads` threads, each segment about the same work ([`pair_weight`]).
-    pub fn plan(&mut self, pairs: &[Pair], touch: &[Touch], n: usize, threads: usize) {
-        self.plan_with(pairs, n, threads, MIN_SEGMENT_PAIRS, |i| touch.get(i).map_or(1, pair_weight));
-    }
-
-    /// [`Self::plan`] with segments of at least `min_pairs` pairs (tests cut short lists) and
-    /// pair `i` weighing `weight(i)`.
-    pub fn plan_with(&mut self, pairs: &[Pair], n: usize, threads: usize, min_pairs: usize, weight: impl Fn(usize) -> u64) {
-        let count = threads.clamp(1, (pairs.len() / min_pairs.max(1)).max(1));
-        let total: u64 = (0..pairs.len()).map(&weight).sum();
-        self.bounds.clear();
-        self.bounds.push(0);
-        let mut sum = 0;
-        for (i, _) in pairs.iter().enumerate() {
-            let cuts = self.bounds.len() - 1;
-            // cut before the first whole group past the next share of the weight
-            if cuts < count - 1 && i % WIDEST_GROUP == 0 && i > self.bounds[cuts] && sum * count as u64 >= total * cuts as u64 + total {
-                self.bounds.push(i);
-            }
-            sum += weight(i);
-        }
-        if !pairs.is_empty() {
-            self.bounds.push(pairs.len());
-        }
-        self.threads = threads;
-        self.first.clear();
-        self.first.resize(n, u32::MAX);
-        for (s, bound) in self.bounds.windows(2).enumerate() {
-            for pair in &pairs[bound[0]..bound[1]] {
-                for p in [pair.a, pair.b] {
-                    let first = &mut self.first[p as usize];
-                    *first = (*first).min(s as u32);
-                }
-            }
-        }
-    }
-
-    /// How many segments there are.
-    pub fn count(&self) -> usize {
-        self.bounds.len().saturating_sub(1)
-    }
-}
-
 /// The particles by cell: (key, internal index) sorted, and where each key begins when there is
 /// a table.
 struct CellIndex<'a> {
@@ -441,6 +360,7 @@ fn for_each_partner(grid: &Grid, cells: &CellIndex, arrays: &ParticleArrays, ski
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dem::pair_lanes::WIDEST_GROUP;
     use spillage_model::closure::contact::SlipTest;
     use spillage_model::particles::random::SplitMix64;
     use spillage_model::particles::settings::MaterialSection;
@@ -497,7 +417,7 @@ mod tests {
         assert!(brute.len() > 100, "{} pairs: the test needs a dense cloud", brute.len());
         assert_eq!(listed, brute);
         // each particle's first segment is the first that holds one of its pairs
-        list.segments.plan_with(&list.pairs, arrays.len(), 3, 4, |_| 1);
+        list.segments.plan_with(&list.pairs, arrays.len(), 3, 4, |_| 1.0);
         let bounds = &list.segments.bounds;
         assert!(
             bounds.len() == 4 && bounds[1..3].iter().all(|b| b % WIDEST_GROUP == 0) && bounds.windows(2).all(|w| w[0] < w[1]),

@@ -5,6 +5,7 @@
 //! threads.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
 
 use spillage_model::closure::contact::{hertz_mindlin_force, PairConstants};
 use spillage_model::particles::first_touch::pair_record;
@@ -60,27 +61,31 @@ pub fn evaluate_and_add(
     let n_segments = segments.count();
     set_aside.resize_with(n_segments, Vec::new);
     let sums = SharedSums::new(force, torque, count);
-    let (touch, records, energy, kept, aside) =
+    let (touches, records, energy, kept, aside) =
         (DisjointSlices::new(touch), DisjointSlices::new(records), DisjointSlices::new(energy), DisjointSlices::new(forces), DisjointSlices::new(set_aside));
     let fault = AtomicBool::new(false);
     // each segment is one piece of the part, run once
     team.run(n_segments, &|s| {
+        let started = Instant::now();
         let range = segments.bounds[s]..segments.bounds[s + 1];
         // SAFETY: segment s's own range of the pairs' entries, and its own buffer
         let (touch, records, energy, kept, aside) = unsafe {
-            (touch.range(range.clone()), records.range(range.clone()), energy.range(range.clone()), kept.range(range.clone()), &mut aside.range(s..s + 1)[0])
+            (touches.range(range.clone()), records.range(range.clone()), energy.range(range.clone()), kept.range(range.clone()), &mut aside.range(s..s + 1)[0])
         };
         let segment = Segment { index: s as u32, first: &segments.first, sums: &sums, aside };
         let entries = Entries { pairs: &pairs[range], constants, touch, records, energy, kept };
         if segment.evaluate(entries, arrays, context) {
             fault.store(true, Ordering::Relaxed);
         }
+        segments.book(s, started);
     });
     let fault = fault.into_inner();
     for contribution in set_aside.iter().flatten() {
         // SAFETY: the segments are joined; nothing else holds the sums' memory now
         unsafe { sums.add(contribution.particle as usize, contribution.is_a, &contribution.force) };
     }
+    // the next loop's cuts, from this one's times and contacts (no bit depends on them)
+    segments.rebalance(pairs, touch, arrays.len());
     fault
 }
 
@@ -494,7 +499,7 @@ mod tests {
                 list.skin = 0.001;
                 list.build(&arrays, &materials, History::Records(&[]));
                 let third = list.pairs.len() / 3;
-                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |i| if skewed && i < third { 5 } else { 1 });
+                list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |i| if skewed && i < third { 5.0 } else { 1.0 });
                 if skewed {
                     let lengths: Vec<usize> = list.segments.bounds.windows(2).map(|w| w[1] - w[0]).collect();
                     assert!(lengths.len() == segments && lengths[0] * 3 < lengths[segments - 1], "uneven cuts: {lengths:?}");
