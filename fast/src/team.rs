@@ -98,8 +98,8 @@ pub struct Team {
 #[repr(align(128))]
 struct Share(AtomicU64);
 
-/// Bits of a home share's bounds: a part has fewer than 2²⁰ pieces (a pass's blocks of 1024
-/// particles: a billion particles).
+/// Bits of a home share's bounds: a part has fewer than 2²⁰ pieces (a pass's blocks of 256
+/// particles: 268 million particles).
 const PIECE_BITS: u32 = 20;
 const PIECE_MASK: u64 = (1 << PIECE_BITS) - 1;
 /// Bits of the part's number in a share: a team posts fewer than 2²⁴ parts (two a DEM sub-step,
