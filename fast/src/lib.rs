@@ -5,6 +5,8 @@
 //! neighbour list with contact histories beside its pairs, walls through their BVHs) and the wear
 //! phase ([`wear`]) on the same linear solvers.
 
+#[cfg(test)]
+mod counting_allocator;
 pub mod coupling;
 pub mod dem;
 pub mod fluid;

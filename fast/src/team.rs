@@ -118,7 +118,8 @@ impl Team {
             panic: Mutex::new(None),
             stop: AtomicBool::new(false),
             parts: AtomicU64::new(0),
-            members: Mutex::new(Vec::new()),
+            // room for every helper: one joining late (a busy machine) allocates nothing in a sub-step
+            members: Mutex::new(Vec::with_capacity(members)),
             posting: AtomicBool::new(false),
             owner: OnceLock::new(),
         }

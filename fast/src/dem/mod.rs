@@ -27,6 +27,8 @@ mod pair_lanes_avx;
 #[cfg(target_arch = "x86_64")]
 mod pair_lanes_avx512;
 pub mod segments;
+#[cfg(test)]
+mod substep_allocations;
 pub mod wall_forces;
 
 use spillage_model::case::Case;
@@ -82,6 +84,9 @@ pub struct FastDem {
     /// sub-step, in internal order (after a pair fault, which returns before the pass, still
     /// the sub-step before's, and not read).
     wall_found: Vec<Vec<WallFound>>,
+    /// Per block of the pass: the impacts its particles logged in the last sub-step, in
+    /// internal order (moved onto the step's log, the buffers kept).
+    wall_impacts: Vec<Vec<ImpactRecord>>,
     /// Which particles the wall pass looks at while the neighbour list and every wall's pose
     /// stay as they were when it was marked ([`WallCandidates`]).
     candidates: WallCandidates,
@@ -147,6 +152,7 @@ impl FastDem {
             far: Vec::new(),
             at_wall: Vec::new(),
             wall_found: Vec::new(),
+            wall_impacts: Vec::new(),
             candidates: WallCandidates::default(),
             frames: Vec::new(),
             poses: Vec::new(),
@@ -371,7 +377,9 @@ impl FastDem {
             let may_touch = DisjointSlices::new(&mut candidates.may_touch);
             let near = DisjointSlices::new(&mut self.near);
             self.wall_found.resize_with(n.div_ceil(BLOCK), Vec::new);
+            self.wall_impacts.resize_with(n.div_ceil(BLOCK), Vec::new);
             let found = DisjointSlices::new(&mut self.wall_found);
+            let block_impacts = DisjointSlices::new(&mut self.wall_impacts);
             // block b's share of the particles' wall state (the pass makes each block's once)
             let before = |b: usize| {
                 let range = b * BLOCK..n.min((b + 1) * BLOCK);
@@ -387,6 +395,11 @@ impl FastDem {
                         near: near.range(range.start * n_walls..range.end * n_walls),
                         start: range.start,
                         found: &mut found.range(b..b + 1)[0],
+                        impacts: {
+                            let impacts = &mut block_impacts.range(b..b + 1)[0];
+                            impacts.clear();
+                            impacts
+                        },
                     }
                 }
             };
@@ -397,6 +410,7 @@ impl FastDem {
             pass
         } else {
             self.wall_found.clear();
+            self.wall_impacts.clear();
             advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt, self.list.built_at(), team, |_| NothingToAdd)
         };
 
@@ -433,7 +447,10 @@ impl FastDem {
                     wall_fault = Some((id, f.clone()));
                 }
             }
-            impacts.extend(side.impacts.iter().cloned());
+        }
+        // the blocks' impacts in block order are the particles' in internal order
+        for block in &mut self.wall_impacts {
+            impacts.append(block);
         }
         let fault = wall_fault.map(|(_, f)| f);
         // the reference logs a sub-step's impacts particle by particle in id order

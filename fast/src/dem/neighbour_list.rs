@@ -125,6 +125,8 @@ pub struct NeighbourList {
     pub forces: Vec<PairForce>,
     /// How the pairs are split among the threads ([`Segments`]).
     pub segments: Segments,
+    /// Lists built so far.
+    pub builds: u64,
     /// Each segment's contributions set aside (buffers reused from sub-step to sub-step).
     pub set_aside: Vec<Vec<super::pair_forces::SetAside>>,
     /// Positions at the last build.
@@ -180,6 +182,7 @@ impl NeighbourList {
 
     /// Lists every pair with a gap below the skin at the current positions.
     pub fn build(&mut self, arrays: &ParticleArrays, materials: &MaterialTable, history: History) {
+        self.builds += 1;
         let n = arrays.len();
         let d_max = arrays.diameter.iter().copied().fold(0.0, f64::max);
         let grid = Grid::spanning(arrays.position.iter().copied(), d_max + self.skin);

@@ -47,6 +47,8 @@ pub struct Segments {
     nanos: Vec<AtomicU64>,
     /// Pair loops since the last look at the balance.
     loops: u32,
+    /// Per segment, its speed in the last window (a buffer kept between windows).
+    speeds: Vec<f64>,
     /// Per segment, the share of the weight it is planned to take (equal at first; kept across
     /// plans of the same segment count, since a slow core stays slow when the list is rebuilt).
     shares: Vec<f64>,
@@ -157,20 +159,26 @@ impl Segments {
             return false;
         }
         self.loops = 0;
-        let seconds: Vec<f64> = self.nanos.iter().map(|t| t.swap(0, Ordering::Relaxed) as f64 * 1e-9).collect();
-        let mean = seconds.iter().sum::<f64>() / count as f64;
-        let slowest = seconds.iter().copied().fold(0.0, f64::max);
-        if !(slowest > BALANCE_TOLERANCE * mean) || self.weights.iter().any(|w| !(*w > 0.0)) {
+        // each segment's speed in weight per second (into a kept buffer: sub-steps allocate
+        // nothing)
+        self.speeds.clear();
+        let mut total_seconds = 0.0;
+        let mut slowest: f64 = 0.0;
+        for (nanos, weight) in self.nanos.iter().zip(&self.weights) {
+            let seconds = nanos.swap(0, Ordering::Relaxed) as f64 * 1e-9;
+            (total_seconds, slowest) = (total_seconds + seconds, slowest.max(seconds));
+            self.speeds.push(weight / seconds);
+        }
+        if !(slowest > BALANCE_TOLERANCE * total_seconds / count as f64) {
             return false;
         }
-        // each segment's speed in weight per second: equal times need shares of the weight in
-        // proportion to the speeds
-        let speed: Vec<f64> = seconds.iter().zip(&self.weights).map(|(t, w)| if *t > 0.0 { w / t } else { 0.0 }).collect();
-        let total_speed: f64 = speed.iter().sum();
-        if !(total_speed > 0.0) || speed.iter().any(|v| !(*v > 0.0)) {
+        // equal times need shares of the weight in proportion to the speeds (a segment that
+        // took no measurable time, or weighs nothing, gives no speed: the shares stay)
+        let total_speed: f64 = self.speeds.iter().sum();
+        if !total_speed.is_finite() || self.speeds.iter().any(|v| !(*v > 0.0)) {
             return false;
         }
-        for (share, v) in self.shares.iter_mut().zip(&speed) {
+        for (share, v) in self.shares.iter_mut().zip(&self.speeds) {
             *share = 0.5 * *share + 0.5 * v / total_speed;
         }
         self.plan_with(pairs, n, self.threads, MIN_SEGMENT_PAIRS, |i| touch.get(i).map_or(1.0, pair_weight));

@@ -81,8 +81,8 @@ pub struct WallSide {
     /// The contact history with every wall, in the reference's order (wall, then contact).
     pub history: Vec<ContactRecord>,
     /// Impacts of contacts that began at the last evaluation (and sliding wear's equivalent
-    /// impacts).
-    pub impacts: Vec<ImpactRecord>,
+    /// impacts), logged into its block's list ([`BlockWalls::impacts`]).
+    pub impacts: u32,
     pub power: f64,
     pub elastic: f64,
     pub placed: f64,
@@ -135,6 +135,10 @@ pub struct BlockWalls<'a> {
     /// What the block's particles at a wall found, in internal order, for the step's totals
     /// (written at the end of the block's pass).
     pub found: &'a mut Vec<WallFound>,
+    /// The impacts of the block's particles in this pass, in internal order (empty at the
+    /// block's start; one list per block, kept from pass to pass, instead of one per particle,
+    /// whose first impact would allocate in a sub-step).
+    pub impacts: &'a mut Vec<ImpactRecord>,
 }
 
 /// What one particle at a wall (`at_wall`) found in a sub-step, copied from its [`WallSide`]
@@ -150,7 +154,7 @@ pub struct WallFound {
     pub elastic: f64,
     pub placed: f64,
     pub power: f64,
-    /// It has a fault or impacts: the totals read its side for them.
+    /// It has a fault: the totals read its side for it.
     pub eventful: bool,
 }
 
@@ -201,7 +205,7 @@ impl BeforeMove for BlockWalls<'_> {
                 elastic: side.elastic,
                 placed: side.placed,
                 power: side.power,
-                eventful: side.fault.is_some() || !side.impacts.is_empty(),
+                eventful: side.fault.is_some(),
             });
         }
     }
@@ -301,9 +305,9 @@ impl BlockWalls<'_> {
             }
         }
         // a particle far from every wall keeps its empty side and `at_wall` false
-        if evaluate_walls(&particle, self.context, far, near, side, force, torque) {
+        if evaluate_walls(&particle, self.context, far, near, side, self.impacts, force, torque) {
             *count += side.contacts;
-            self.at_wall[j] = side.contacts > 0 || side.fault.is_some() || !side.impacts.is_empty();
+            self.at_wall[j] = side.contacts > 0 || side.fault.is_some() || side.impacts > 0;
         }
         if mark {
             self.may_touch[j] = !far.stays_far_while_listed(&built_at[k], self.context.epoch, skin);
@@ -341,8 +345,9 @@ impl WallParticle<'_> {
     }
 }
 
-/// Evaluates `particle`'s wall contacts into `side`, adding their force and torque to
-/// `force` and `torque` (in the reference's order: wall by wall, contact by contact). `near`
+/// Evaluates `particle`'s wall contacts into `side`, its impacts onto `impacts`, adding their
+/// force and torque to `force` and `torque` (in the reference's order: wall by wall, contact by
+/// contact). `near`
 /// holds the particle's near triangles of each wall (kept in one flat array for all particles:
 /// a pointer per particle to chase cost a third of the walls' time).
 ///
@@ -355,6 +360,7 @@ pub fn evaluate_walls(
     far: &mut FarFromWalls,
     near: &mut [NearTriangles],
     side: &mut WallSide,
+    impacts: &mut Vec<ImpactRecord>,
     force: &mut Vec3,
     torque: &mut Vec3,
 ) -> bool {
@@ -363,7 +369,7 @@ pub fn evaluate_walls(
         return false;
     }
     far.epoch = 0;
-    side.impacts.clear();
+    side.impacts = 0;
     (side.power, side.elastic, side.placed, side.contacts, side.max_overlap_ratio, side.fault) = (0.0, 0.0, 0.0, 0, 0.0, None);
     let (k, properties) = (particle.k, &particle.properties);
     let (id, r, x) = (properties.id[k], properties.radius[k], particle.position);
@@ -397,7 +403,10 @@ pub fn evaluate_walls(
     }
     SCRATCH.with(|scratch| {
         let scratch = &mut *scratch.borrow_mut();
-        std::mem::swap(&mut side.history, &mut scratch.old_history);
+        // copied, not swapped: a swap would hand the buffers round the particles, and one that
+        // never touched a wall (no capacity) would make the next particle's pushes allocate
+        scratch.old_history.clear();
+        scratch.old_history.extend_from_slice(&side.history);
         side.history.clear();
         scratch.continued.clear();
         scratch.continued.resize(scratch.old_history.len(), false);
@@ -436,7 +445,8 @@ pub fn evaluate_walls(
                     }
                     None => {
                         let p = particle.particle();
-                        side.impacts.push(impact(&p, w as u32, contact, body, wall_velocity, normal, context.time));
+                        impacts.push(impact(&p, w as u32, contact, body, wall_velocity, normal, context.time));
+                        side.impacts += 1;
                         wall_record(context.materials, context.wet_fluid, &p, w as u32, wall.material, normal, v_rel, context.time)
                     }
                 };
@@ -452,7 +462,10 @@ pub fn evaluate_walls(
                 record.normal = normal;
                 if context.sliding_walls[w] {
                     let p = particle.particle();
-                    side.impacts.extend(sliding_impact(&mut record, &p, w as u32, contact, body, wall_velocity, normal, f.normal, context.dt, context.time));
+                    if let Some(sliding) = sliding_impact(&mut record, &p, w as u32, contact, body, wall_velocity, normal, f.normal, context.dt, context.time) {
+                        impacts.push(sliding);
+                        side.impacts += 1;
+                    }
                 }
                 let elastic = 0.4 * f.normal.norm() * overlap;
                 side.elastic += elastic;
