@@ -1,7 +1,8 @@
 //! A counting global allocator for the crate's tests. It counts the allocations (and
-//! reallocations) made while counting is on by the threads marked as counted: the test's own
-//! thread and the workers of the pool it builds (marked by the pool's start handler). The
-//! other tests, which run beside it on threads of their own, add nothing to the count.
+//! reallocations) made while counting is on by the threads marked as counted: the workers of
+//! the pool a test builds, marked by the pool's start handler (the test runs its work on one of
+//! them, through `install`). The other tests, which run beside it on threads of their own, add
+//! nothing to the count.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -57,8 +58,10 @@ pub fn mark_this_thread() {
 }
 
 /// Runs `f` with counting on; returns its result and the marked threads' allocations meanwhile.
-/// One test at a time may count (the switch is global).
+/// One count at a time (the switch is global): a second waits for the first.
 pub fn count_during<R>(f: impl FnOnce() -> R) -> (R, usize) {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let before = COUNT.load(Ordering::SeqCst);
     ON.store(true, Ordering::SeqCst);
     let result = f();

@@ -23,8 +23,9 @@ use crate::team::{DisjointSlices, Team};
 /// whose pass carries the drag law of every particle: P3 fine's 1 683 particles made two blocks
 /// of 1 024 and 659, and on two threads one waited a third of every pass. At 256, P3 fine took
 /// 0.907 of its time per step (median of 5 alternating pairs on 2 threads); the 10⁴ settling
-/// bed 0.978 (2 threads) and 0.983 (1 thread). The work sums feed only the energy guard, so
-/// the block length changes no output bit.
+/// bed 0.978 (2 threads) and 0.983 (1 thread). The work sums feed only the energy guard (its
+/// test and, when it fails, its message): the block length changes their last bits, not the
+/// particles' (the same bits on any thread count, as before).
 pub const BLOCK: usize = 256;
 
 /// Per-particle accumulators of a step, in internal order, and the pass's block sums.

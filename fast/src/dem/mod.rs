@@ -410,7 +410,7 @@ impl FastDem {
             pass
         } else {
             self.wall_found.clear();
-            self.wall_impacts.clear();
+            self.wall_impacts.iter_mut().for_each(Vec::clear);
             advance_particles(next, &mut self.arrays, &mut self.sums, &self.setup.forces, fluid, dt, self.list.built_at(), team, |_| NothingToAdd)
         };
 

@@ -59,7 +59,7 @@ pub fn evaluate_and_add(
     }
     let NeighbourList { pairs, constants, touch, records, energy, forces, segments, set_aside, .. } = list;
     let n_segments = segments.count();
-    set_aside.resize_with(n_segments, Vec::new);
+    segments.reserve_aside(set_aside);
     let sums = SharedSums::new(force, torque, count);
     let (touches, records, energy, kept, aside) =
         (DisjointSlices::new(touch), DisjointSlices::new(records), DisjointSlices::new(energy), DisjointSlices::new(forces), DisjointSlices::new(set_aside));
@@ -85,7 +85,9 @@ pub fn evaluate_and_add(
         unsafe { sums.add(contribution.particle as usize, contribution.is_a, &contribution.force) };
     }
     // the next loop's cuts, from this one's times and contacts (no bit depends on them)
-    segments.rebalance(pairs, touch, arrays.len());
+    if segments.rebalance(pairs, touch, arrays.len()) {
+        segments.reserve_aside(set_aside);
+    }
     fault
 }
 

@@ -49,8 +49,15 @@ pub struct Segments {
     loops: u32,
     /// Per segment, its speed in the last window (a buffer kept between windows).
     speeds: Vec<f64>,
+    /// Per segment, the most contributions it can set aside (the capacity its buffer needs so
+    /// that no sub-step allocates, [`Self::reserve_aside`]).
+    aside: Vec<usize>,
+    /// Plans made so far (list builds, thread counts and re-cuts).
+    pub cuts: u64,
     /// Per segment, the share of the weight it is planned to take (equal at first; kept across
-    /// plans of the same segment count, since a slow core stays slow when the list is rebuilt).
+    /// plans of the same segment count, since a slow core stays slow when the list is rebuilt;
+    /// equal again when the count changes, with the threads or for a short list). Never below
+    /// [`SMALLEST_SHARE`] of an equal share.
     shares: Vec<f64>,
 }
 
@@ -67,6 +74,13 @@ pub const BALANCE_WINDOW: u32 = 32;
 /// costs two passes over the pairs (about half a pair loop of the 10⁴ bed), worth it only for a
 /// gain of a few per cent; below this, a window's imbalance is mostly the machine's noise.
 pub const BALANCE_TOLERANCE: f64 = 1.04;
+
+/// The smallest share of the weight a segment is given, as a fraction of an equal share: a
+/// segment never shrinks to nothing (which would leave its thread idle for good, since a list
+/// with fewer segments than threads is never re-balanced). A quarter of an equal share of at
+/// least [`MIN_SEGMENT_PAIRS`] pairs, each weighing at least 1, outweighs a group of
+/// [`WIDEST_GROUP`] pairs weighing at most 3 each, so every planned cut is made.
+const SMALLEST_SHARE: f64 = 0.25;
 
 /// What a pair costs the pair loop, relative to one apart (an estimate: a touching pair takes
 /// the contact law and is added to its particles, a group of pairs all apart returns early).
@@ -134,6 +148,26 @@ impl Segments {
                 }
             }
         }
+        // the most each segment can set aside: its pairs' sides whose particle an earlier
+        // segment adds to
+        self.aside.clear();
+        for (s, bound) in self.bounds.windows(2).enumerate() {
+            let sides = pairs[bound[0]..bound[1]].iter().flat_map(|pair| [pair.a, pair.b]);
+            self.aside.push(sides.filter(|&p| self.first[p as usize] != s as u32).count());
+        }
+        self.cuts += 1;
+    }
+
+    /// Gives each segment's buffer of set-aside contributions (`set_aside`, one per segment)
+    /// the capacity the plan can ask of it, so that the sub-steps between two plans allocate
+    /// nothing (call after a plan; a no-op when the buffers are large enough).
+    pub fn reserve_aside<T>(&self, set_aside: &mut Vec<Vec<T>>) {
+        set_aside.resize_with(self.count(), Vec::new);
+        for (buffer, &need) in set_aside.iter_mut().zip(&self.aside) {
+            if buffer.capacity() < need {
+                buffer.reserve(need - buffer.len());
+            }
+        }
     }
 
     /// How many segments there are.
@@ -155,7 +189,7 @@ impl Segments {
     pub fn rebalance(&mut self, pairs: &[Pair], touch: &[Touch], n: usize) -> bool {
         self.loops += 1;
         let count = self.count();
-        if self.loops < BALANCE_WINDOW || count < 2 {
+        if self.loops < BALANCE_WINDOW || count < 2 || self.shares.len() != count {
             return false;
         }
         self.loops = 0;
@@ -178,8 +212,16 @@ impl Segments {
         if !total_speed.is_finite() || self.speeds.iter().any(|v| !(*v > 0.0)) {
             return false;
         }
+        let floor = SMALLEST_SHARE / count as f64;
         for (share, v) in self.shares.iter_mut().zip(&self.speeds) {
-            *share = 0.5 * *share + 0.5 * v / total_speed;
+            *share = (0.5 * *share + 0.5 * v / total_speed).max(floor);
+        }
+        // what the floor added is taken from the shares above it, in proportion to their room
+        // above it (there is enough: the floors sum to a quarter)
+        let excess = self.shares.iter().sum::<f64>() - 1.0;
+        let room: f64 = self.shares.iter().map(|share| share - floor).sum();
+        if excess > 0.0 && room > 0.0 {
+            self.shares.iter_mut().for_each(|share| *share -= excess * (*share - floor) / room);
         }
         self.plan_with(pairs, n, self.threads, MIN_SEGMENT_PAIRS, |i| touch.get(i).map_or(1.0, pair_weight));
         true
@@ -226,5 +268,31 @@ mod tests {
         segments.plan(&pairs, &touch, pairs.len() + 1, 1);
         segments.plan(&pairs, &touch, pairs.len() + 1, 2);
         assert_eq!(segments.bounds, vec![0, 4096, 8192], "another thread count starts equal");
+        // a chain's second segment sets aside one side: its first pair's a, whose first
+        // segment is the first
+        assert_eq!(segments.aside, vec![0, 1]);
+        let mut set_aside: Vec<Vec<u8>> = Vec::new();
+        segments.reserve_aside(&mut set_aside);
+        assert!(set_aside.len() == 2 && set_aside[1].capacity() >= 1);
+    }
+
+    /// However slow a segment's thread, its share stays at least a quarter of an equal one, so
+    /// every cut is made and both threads keep a segment (a segment whose share shrank to
+    /// nothing would have left its thread idle for good).
+    #[test]
+    fn a_very_slow_segment_keeps_a_floor_share() {
+        let pairs = chain(2048);
+        let touch = vec![Touch::default(); pairs.len()];
+        let mut segments = Segments::default();
+        segments.plan(&pairs, &touch, pairs.len() + 1, 2);
+        for _ in 0..20 * BALANCE_WINDOW {
+            segments.nanos[0].fetch_add(1_000_000, Ordering::Relaxed);
+            segments.nanos[1].fetch_add(1, Ordering::Relaxed);
+            segments.rebalance(&pairs, &touch, pairs.len() + 1);
+            assert_eq!(segments.count(), 2, "bounds {:?}, shares {:?}", segments.bounds, segments.shares);
+        }
+        let floor = SMALLEST_SHARE / 2.0;
+        assert!((segments.shares[0] - floor).abs() < 1e-12 && (segments.shares.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{:?}", segments.shares);
+        assert_eq!(segments.bounds, vec![0, 256, 2048]);
     }
 }

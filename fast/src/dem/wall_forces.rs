@@ -316,7 +316,6 @@ impl BlockWalls<'_> {
 }
 
 /// Per-thread work buffers (reused across sub-steps: nothing is allocated once they grew).
-#[derive(Default)]
 struct Scratch {
     contacts: ContactScratch,
     old_history: Vec<ContactRecord>,
@@ -324,8 +323,24 @@ struct Scratch {
     continued: Vec<bool>,
 }
 
+/// Room the per-thread buffers start with: candidate triangles and wall contacts of one
+/// particle. A particle in a box's corner has three contacts among some twenty triangles; with
+/// this room a thread that steals a block of particles busier than any it met before (which
+/// depends on timing) still allocates nothing.
+const SCRATCH_ROOM: usize = 64;
+
+impl Scratch {
+    fn new() -> Self {
+        Self {
+            contacts: ContactScratch::with_capacity(SCRATCH_ROOM),
+            old_history: Vec::with_capacity(SCRATCH_ROOM),
+            continued: Vec::with_capacity(SCRATCH_ROOM),
+        }
+    }
+}
+
 thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::new());
 }
 
 /// A particle whose wall contacts are evaluated: its internal index, where it is and how it

@@ -289,6 +289,13 @@ pub struct ContactScratch {
     pub accepted: Vec<MeshContact>,
 }
 
+impl ContactScratch {
+    /// Buffers with room for `n` candidate triangles (a query among more grows them).
+    pub fn with_capacity(n: usize) -> Self {
+        Self { candidates: Vec::with_capacity(n), accepted: Vec::with_capacity(n) }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -195,4 +195,30 @@ mod tests {
         }
         assert!(seen.iter().all(|&k| k > 1000), "every feature kind met often: {seen:?}");
     }
+
+    /// Ties, as a lattice bed meets a box's faces: axis-aligned triangles with whole-number
+    /// corners, points exactly at each vertex, on the planes through the vertices at right
+    /// angles to the edges (where a Voronoi test compares a zero), on the edges and on the face.
+    #[test]
+    fn the_same_bits_as_parry_on_the_ties_of_a_box() {
+        let v = |x: f64, y: f64, z: f64| GlamVector::new(x, y, z);
+        let mut seen = [0usize; 3];
+        let triangles = [
+            Triangle::new(v(0.0, 0.0, 0.0), v(4.0, 0.0, 0.0), v(0.0, 4.0, 0.0)),
+            Triangle::new(v(4.0, 0.0, 0.0), v(4.0, 4.0, 0.0), v(0.0, 4.0, 0.0)),
+            Triangle::new(v(0.0, 0.0, 2.0), v(0.0, 3.0, 2.0), v(0.0, 0.0, 5.0)),
+            Triangle::new(v(1.0, 1.0, 1.0), v(1.0, 1.0, 3.0), v(3.0, 1.0, 1.0)),
+        ];
+        for triangle in &triangles {
+            for x in -2..=6 {
+                for y in -2..=6 {
+                    for z in -2..=6 {
+                        assert_same_as_parry(triangle, v(x as f64, y as f64, z as f64), &mut seen);
+                        assert_same_as_parry(triangle, v(x as f64 * 0.5, y as f64 * 0.5, z as f64 * 0.5), &mut seen);
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&k| k > 100), "every feature kind met often: {seen:?}");
+    }
 }
