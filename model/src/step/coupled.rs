@@ -52,7 +52,10 @@ use crate::state::State;
 
 mod exit_route;
 mod later_batch;
+mod median;
 mod retry;
+
+use median::median;
 
 use exit_route::exit_route;
 
@@ -552,17 +555,6 @@ fn non_finite_fluid(mesh: &Mesh, fluid: &crate::fluid::state::FluidState) -> Opt
     let i = fluid.flux.iter().position(|v| !v.is_finite())?;
     let c = mesh.face_centres.get(i).map_or(String::new(), |c| format!(" at [{:e}, {:e}, {:e}] m", c.x, c.y, c.z));
     Some(format!("the fluid flux of face {i}{c} is {}", fluid.flux[i]))
-}
-
-/// The median of `values` (the mean of the middle two for an even count); `values` not empty.
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
 }
 
 impl<F: FluidPhase, P: ParticlePhase> Solver for Coupled<F, P> {
