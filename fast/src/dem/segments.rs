@@ -17,7 +17,7 @@
 //! alternating pairs), the 10⁴ bed's 0.978–0.993 (three sets of 16).
 //!
 //! Only the shares move halfway: a window's times carry the noise of the machine (a window
-//! of the 10⁴ bed is about 16 ms), and a re-cut costs a pass over the pairs.
+//! of the 10⁴ bed is about 16 ms), and a re-cut costs a few passes over the pairs.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -71,8 +71,9 @@ const MIN_SEGMENT_PAIRS: usize = 1024;
 pub const BALANCE_WINDOW: u32 = 32;
 
 /// The slowest segment's time over the mean beyond which the segments are cut again: a re-cut
-/// costs two passes over the pairs (about half a pair loop of the 10⁴ bed), worth it only for a
-/// gain of a few per cent; below this, a window's imbalance is mostly the machine's noise.
+/// costs four passes over the pairs (weights, cuts, first segments, set-aside bounds), worth it
+/// only for a gain of a few per cent; below this, a window's imbalance is mostly the machine's
+/// noise.
 pub const BALANCE_TOLERANCE: f64 = 1.04;
 
 /// The smallest share of the weight a segment is given, as a fraction of an equal share: a
@@ -223,7 +224,7 @@ impl Segments {
         if excess > 0.0 && room > 0.0 {
             self.shares.iter_mut().for_each(|share| *share -= excess * (*share - floor) / room);
         }
-        self.plan_with(pairs, n, self.threads, MIN_SEGMENT_PAIRS, |i| touch.get(i).map_or(1.0, pair_weight));
+        self.plan(pairs, touch, n, self.threads);
         true
     }
 }

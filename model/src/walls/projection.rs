@@ -118,12 +118,18 @@ impl ProjectedTriangle {
     fn project_degenerate(&self, p: V) -> (V, Feature) {
         let g = |v: V| GlamVector::new(v[0], v[1], v[2]);
         let (projection, location) = Triangle::new(g(self.a), g(self.b), g(self.c)).project_local_point_and_get_location(g(p), false);
-        let feature = match location {
+        ([projection.point.x, projection.point.y, projection.point.z], Feature::of(location))
+    }
+}
+
+impl Feature {
+    /// The kind of parry's location.
+    fn of(location: TrianglePointLocation) -> Feature {
+        match location {
             TrianglePointLocation::OnVertex(_) => Feature::Vertex,
             TrianglePointLocation::OnEdge(..) => Feature::Edge,
             TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid => Feature::Face,
-        };
-        ([projection.point.x, projection.point.y, projection.point.z], feature)
+        }
     }
 }
 
@@ -143,20 +149,12 @@ mod tests {
         }
     }
 
-    fn kind(location: TrianglePointLocation) -> Feature {
-        match location {
-            TrianglePointLocation::OnVertex(_) => Feature::Vertex,
-            TrianglePointLocation::OnEdge(..) => Feature::Edge,
-            TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid => Feature::Face,
-        }
-    }
-
     fn assert_same_as_parry(triangle: &Triangle, p: GlamVector, seen: &mut [usize; 3]) {
         let (projection, location) = triangle.project_local_point_and_get_location(p, false);
         let (point, feature) = ProjectedTriangle::new(triangle).project([p.x, p.y, p.z]);
         let bits = |v: [f64; 3]| v.map(f64::to_bits);
         assert_eq!(bits(point), bits([projection.point.x, projection.point.y, projection.point.z]), "{triangle:?} at {p:?}");
-        assert_eq!(feature, kind(location), "{triangle:?} at {p:?}");
+        assert_eq!(feature, Feature::of(location), "{triangle:?} at {p:?}");
         seen[feature as usize] += 1;
     }
 
