@@ -3,6 +3,7 @@
 
 use super::csr::Csr;
 use super::gang::{self, Crew, Slot};
+use super::pace::{run_paced, Pace};
 use super::pcg::initial_residual;
 use super::{SolveStats, Tolerance};
 
@@ -19,11 +20,14 @@ pub struct BiCgStab {
     y: Vec<Slot<f64>>,
     zs: Vec<Slot<f64>>,
     partials: Vec<gang::PartialSum>,
+    /// Gang or alone, by the speed each has had ([`super::pace`]).
+    pace: Pace,
 }
 
 impl BiCgStab {
     /// Solves A x = b from the initial guess in `x`, preconditioned by the diagonal of A, on a
-    /// gang of the current pool's threads.
+    /// gang of the current pool's threads or on the calling thread, whichever has been faster
+    /// ([`super::pace`]).
     ///
     /// The Jacobi preconditioner is applied inside the vector updates, and every product and
     /// update carries the sums that follow it, so an iteration makes six passes over the
@@ -34,12 +38,12 @@ impl BiCgStab {
         for v in [&mut self.r, &mut self.r0, &mut self.p, &mut self.v, &mut self.s, &mut self.t, &mut self.y, &mut self.zs] {
             v.resize_with(n, Slot::default);
         }
-        let BiCgStab { r, r0, p, v, s, t, y, zs, partials } = self;
+        let BiCgStab { r, r0, p, v, s, t, y, zs, partials, pace } = self;
         let vectors = Vectors { r, r0, p, v, s, t, y, zs };
         let x = Slot::from_mut_slice(x);
         // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
         // every member runs `iterate` whole
-        gang::run(n, partials, |crew| unsafe { iterate(crew, a, b, x, &vectors, tol) })
+        run_paced(pace, n, partials, |crew| unsafe { iterate(crew, a, b, x, &vectors, tol) }, |stats| stats.iterations)
     }
 }
 

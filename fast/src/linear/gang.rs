@@ -296,15 +296,21 @@ pub fn run_alone<R>(rows: usize, partials: &mut Vec<PartialSum>, body: impl FnOn
     body(&Crew { id: 0, size: 1, gang: &gang, partials, flip: Cell::new(0) })
 }
 
+/// Whether [`run`] would gather a gang for `rows` rows (a pool of more than one thread, and at
+/// least [`GANG_MIN_ROWS`] rows).
+pub fn can_form(rows: usize) -> bool {
+    rayon::current_num_threads() > 1 && rows >= GANG_MIN_ROWS
+}
+
 /// Runs `body` on a gang of the current rayon pool's threads (as many as join within
 /// [`GATHER`]; the caller alone for fewer than [`GANG_MIN_ROWS`] rows or a pool of one) and
 /// returns the first member's result. Its sums may run over up to `rows` entries; `partials`
 /// holds their chunk sums (resized here: no allocation once large enough).
 pub fn run<R: Send>(rows: usize, partials: &mut Vec<PartialSum>, body: impl Fn(&Crew) -> R + Sync) -> R {
-    let threads = rayon::current_num_threads();
-    if threads <= 1 || rows < GANG_MIN_ROWS {
+    if !can_form(rows) {
         return run_alone(rows, partials, body);
     }
+    let threads = rayon::current_num_threads();
     let partials = sized(rows, partials);
     let gang = Gang::new();
     let crew = |id: usize, size: usize| Crew { id, size, gang: &gang, partials, flip: Cell::new(0) };

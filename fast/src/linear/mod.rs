@@ -5,12 +5,15 @@
 //! Determinism: every parallel loop writes disjoint outputs computed in a fixed order, and every
 //! reduction sums fixed-size chunks ([`reduce::CHUNK`]) whose partial sums are added in chunk
 //! order, so a solve gives the same bits on 1 or N threads. Conjugate gradients, the multigrid
-//! cycle and BiCGStab run as one gang of threads per solve ([`gang`]); the other loops on rayon.
+//! cycle and BiCGStab run as one gang of threads per solve ([`gang`]), or on the calling thread
+//! alone when this machine has been running that solver's gangs slower than one thread
+//! ([`pace`]); the other loops on rayon.
 
 pub mod amg;
 pub mod bicgstab;
 pub mod csr;
 pub mod gang;
+pub mod pace;
 pub mod pcg;
 pub mod reduce;
 pub mod smoother;

@@ -6,6 +6,7 @@
 
 use super::csr::Csr;
 use super::gang::{self, Crew, Slot};
+use super::pace::{run_paced, Pace};
 use super::{Preconditioner, SolveStats, Tolerance};
 
 /// Work vectors of CG (kept between solves: no allocation once sized), shared by the members of
@@ -19,6 +20,8 @@ pub struct Pcg {
     partials: Vec<gang::PartialSum>,
     /// Solve on the calling thread alone ([`Pcg::on_the_calling_thread`]).
     alone: bool,
+    /// Gang or alone, by the speed each has had ([`super::pace`]).
+    pace: Pace,
     /// Bytes streamed by the CG kernels (as [`super::amg::Amg::bytes_streamed`], excluding the
     /// preconditioner).
     bytes: f64,
@@ -72,17 +75,19 @@ impl Pcg {
     }
 
     /// Solves A x = b from the initial guess in `x`, on a gang of the current pool's threads
-    /// (or on the calling thread, [`Pcg::on_the_calling_thread`]; short solves always).
+    /// or on the calling thread, whichever has been faster ([`super::pace`]); always on the
+    /// calling thread with [`Pcg::on_the_calling_thread`], and for short solves.
     pub fn solve(&mut self, a: &Csr, b: &[f64], x: &mut [f64], m: &mut impl Preconditioner, tol: Tolerance) -> SolveStats {
         let n = a.n;
         self.size(n);
-        let Pcg { r, z, p, q, partials, alone, bytes } = self;
+        let Pcg { r, z, p, q, partials, alone, pace, bytes } = self;
         let (r, z, p, q, x) = (&r[..], &z[..], &p[..], &q[..], Slot::from_mut_slice(x));
         let shared = &*m;
         // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
         // every member runs `iterate` whole
         let body = |crew: &Crew| unsafe { iterate(crew, a, b, x, [r, z, p, q], shared, tol) };
-        let (stats, cg_bytes, m_bytes) = if *alone { gang::run_alone(n, partials, body) } else { gang::run(n, partials, body) };
+        let (stats, cg_bytes, m_bytes) =
+            if *alone { gang::run_alone(n, partials, body) } else { run_paced(pace, n, partials, body, |(stats, _, _)| stats.iterations) };
         *bytes += cg_bytes;
         m.record_bytes(m_bytes);
         stats
