@@ -44,6 +44,16 @@ def wall_contacts(p, positions):
     return n
 
 
+def with_context(row):
+    """The row with what run.sh says of the run: its round (ROUNDS) and the two threads'
+    hand-off in ns timed just before it (HANDOFF_NS, absent without the core_to_core example)."""
+    row["round"] = int(os.environ.get("ROUND", "1"))
+    handoff = os.environ.get("HANDOFF_NS", "")
+    if handoff:
+        row["handoff_ns"] = float(handoff)
+    return row
+
+
 def liggghts(log_path, dump_path, params_path):
     p = params(params_path)
     text = open(log_path).read()
@@ -81,9 +91,7 @@ def liggghts(log_path, dump_path, params_path):
         "mean_z": sum(q[2] for q in positions) / len(positions),
         "start_particles": int(p["n_particles"]),
     }
-    # run.sh's ROUNDS: which round of the codes' turns the run was
-    row["round"] = int(os.environ.get("ROUND", "1"))
-    print(json.dumps(row))
+    print(json.dumps(with_context(row)))
 
 
 def read_vtp(path):
@@ -139,9 +147,12 @@ def spillage(out, params_path, requested):
         # the fast DEM's pair kernel on this processor (AVX-512, AVX or portable lanes)
         "pair_kernel": summary["details"].get("dem_pair_kernel"),
     }
-    # run.sh's ROUNDS: which round of the codes' turns the run was
-    row["round"] = int(os.environ.get("ROUND", "1"))
-    print(json.dumps(row))
+    print(json.dumps(with_context(row)))
+
+
+# A hand-off at least this long marks the slow period of the 2-core VM (25–50 ns fast,
+# 175–260 ns slow; README, "A gang or one thread, by the clock").
+SLOW_HANDOFF_NS = 100.0
 
 
 def fmt(value, spec):
@@ -190,6 +201,18 @@ def table(path):
             # each round's ratio is taken within the round (the machine drifts between rounds)
             listed = ", ".join(f"{v:.3f}" for v in values)
             print(f"{name:<30} {statistics.median(values):7.3f}  median of {len(values)} rounds ({listed})  {note}")
+    handoffs = {n: [r["handoff_ns"] for r in rows if r.get("round", 1) == n and "handoff_ns" in r] for n in rounds}
+    if any(handoffs.values()):
+        # a round is slow when any of its runs began with a slow hand-off (the 2-core VM's
+        # periods: 25–50 ns and 175–260 ns); the 1 → 2 ratio of each kind of round apart
+        slow = {n: bool(h) and max(h) >= SLOW_HANDOFF_NS for n, h in handoffs.items()}
+        listed = ", ".join(f"{max(h):.0f}" if h else "—" for h in handoffs.values())
+        print(f"two threads' hand-off, ns (the slowest before a run of each round): {listed}")
+        k = next(k for k, r in enumerate(per_round[0]) if r[0] == "fast 2 threads / 1 thread")
+        for kind, want in (("fast", False), ("slow", True)):
+            values = [rs[k][1] / rs[k][2] for n, rs in zip(rounds, per_round) if handoffs[n] and slow[n] == want and rs[k][1] and rs[k][2]]
+            if values:
+                print(f"  fast 2 threads / 1 thread in {kind}-hand-off rounds: median {statistics.median(values):.3f} of {len(values)}")
     kernels = sorted({r["pair_kernel"] for r in rows if r.get("pair_kernel")})
     if kernels:
         print(f"spillage fast pair kernel: {', '.join(kernels)}")

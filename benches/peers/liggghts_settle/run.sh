@@ -29,6 +29,10 @@
 #                    median over the rounds, each round's ratio taken within the round: the
 #                    machine's speed drifts by more than the ratios' differences between runs
 #                    made minutes apart
+# Before every run the two threads' hand-off of a cache line is timed with
+# `target/release/examples/core_to_core` when it has been built (cargo build --release --example
+# core_to_core): a 2-thread run's speed follows it (README, "A gang or one thread, by the
+# clock"), and the table gives the 1 → 2 ratios of the fast and the slow periods apart.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
@@ -147,6 +151,15 @@ if ! command -v mpirun >/dev/null 2>&1; then
   echo "mpirun not found: LIGGGHTS on more than one process skipped"
 fi
 
+# the two threads' hand-off in ns, into HANDOFF_NS for report.py (empty without the example)
+handoff_bin="${CARGO_TARGET_DIR:-$root/target}/release/examples/core_to_core"
+time_handoff() {
+  export HANDOFF_NS=""
+  if [ -x "$handoff_bin" ]; then
+    HANDOFF_NS=$("$handoff_bin" 3 | awk '{print $1}')
+  fi
+}
+
 # LIGGGHTS' runs of round $ROUND (directories suffixed $suffix)
 run_liggghts() {
   for procs in ${LIGGGHTS_PROCS:-1 2}; do
@@ -163,6 +176,7 @@ run_liggghts() {
     mkdir -p "$dir"
     cp "$work/in.settle" "$work/lattice.data" "$dir/"
     echo "LIGGGHTS on $procs process(es) in $dir"
+    time_handoff
     (cd "$dir" && "${launch[@]}" -in in.settle -log log.liggghts > stdout.txt 2>&1) \
       || { echo "LIGGGHTS failed: tail of $dir/stdout.txt:"; tail -20 "$dir/stdout.txt"; exit 1; }
     python3 "$here/report.py" liggghts "$dir/log.liggghts" "$dir/final.dump" "$work/params.sh" >> "$results"
@@ -176,6 +190,7 @@ run_spillage() {
     local solver=${run%%:*} threads=${run##*:}
     local out="$work/spillage_${solver}_t$threads$suffix"
     echo "spillage --solver $solver --threads $threads in $out"
+    time_handoff
     "$bin" run "$spillage_case" --solver "$solver" --threads "$threads" --out "$out" --force > "$out.log" 2>&1 \
       || { echo "spillage failed: tail of $out.log:"; tail -20 "$out.log"; exit 1; }
     grep -h '^note:' "$out.log" | sort -u || true
