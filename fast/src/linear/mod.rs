@@ -13,7 +13,7 @@ pub mod amg;
 pub mod bicgstab;
 pub mod csr;
 pub mod gang;
-mod pace;
+pub mod pace;
 pub mod pcg;
 pub mod reduce;
 pub mod smoother;
