@@ -41,10 +41,10 @@ impl BiCgStab {
         let BiCgStab { r, r0, p, v, s, t, y, zs, partials, pace } = self;
         let vectors = Vectors { r, r0, p, v, s, t, y, zs };
         let x = Slot::from_mut_slice(x);
-        // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
-        // every member runs `iterate` whole
         // before the first iteration: the initial residual (a product and five passes) against
         // an iteration's two products and five passes, about half an iteration
+        // SAFETY: the vectors are this solve's alone (borrowed from `self` and the caller), and
+        // every member runs `iterate` whole
         run_paced(pace, n, partials, |crew| unsafe { iterate(crew, a, b, x, &vectors, tol) }, |stats| stats.iterations, 0.5)
     }
 }
