@@ -7,12 +7,14 @@
 //! contacts, [`BeforeMove`]) and clears the sums for the next sub-step's pairs after: one
 //! parallel region and one sweep over the particles' memory where there were three.
 
-use spillage_model::closure::drag::FluidAtParticle;
+use spillage_model::closure::drag::{DragLaw, FluidAtParticle};
+use spillage_model::coupling::Feedback;
 use spillage_model::particles::non_contact::{LoadShare, NonContactForces};
-use spillage_model::particles::settings::Motion;
+use spillage_model::particles::settings::{FluidForces, Motion};
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::{ParticleArrays, ParticleProperties};
+use super::drag_lanes::{update_lanes, LaneInputs, LaneResults, LANES};
 use crate::team::{DisjointSlices, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
@@ -186,12 +188,25 @@ pub fn advance_particles<B: BeforeMove>(
                 load.slip_reynolds = share.slip_reynolds;
             }
         };
+        // free particles in a fluid, without a rotating frame: their drag laws in SIMD lanes
+        let lanes = (forces.motion == Motion::Free && forces.rotating_frame.is_none() && forces.fluid_forces == FluidForces::Full && !fluid.is_empty())
+            .then_some(FluidLanes {
+                fluid,
+                state_index: &state_index[..],
+                diameter: &diameter[..],
+                density: &density[..],
+                volume: &volume[..],
+                mass: kernel.properties.mass,
+                law: forces.drag_law,
+                feedback: forces.feedback,
+                gravity: forces.gravity,
+            });
         team.run(blocks_of(n), &|b| {
             let (start, moving, contact, load, out) = block(b);
-            let update = |k: usize, v: &mut Vec3, x: &Vec3| update(k, v, x, &mut load[k - start]);
-            *out = match forces.motion {
-                Motion::Free => kernel.block::<true>(start, moving, contact, &mut before(b), update),
-                Motion::Held => kernel.block::<false>(start, moving, contact, &mut before(b), update),
+            *out = match (&lanes, forces.motion) {
+                (Some(lanes), _) => kernel.block_in_lanes(start, moving, contact, &mut before(b), lanes, load, &update),
+                (None, Motion::Free) => kernel.block::<true>(start, moving, contact, &mut before(b), |k, v, x| update(k, v, x, &mut load[k - start])),
+                (None, Motion::Held) => kernel.block::<false>(start, moving, contact, &mut before(b), |k, v, x| update(k, v, x, &mut load[k - start])),
             };
         });
     }
@@ -287,5 +302,135 @@ impl PassKernel<'_> {
         }
         before.after_block();
         sums
+    }
+
+    /// [`Self::block`] for free particles with [`FluidLanes`]: the same operations on each
+    /// particle in the same order, grouped by [`LANES`] particles so that their non-contact
+    /// updates run side by side. Grouping them moves a particle's contacts and kicks relative
+    /// to its neighbours' in time, which changes nothing: each reads only its own particle's
+    /// state, and the work sums are still added particle by particle in internal order. A
+    /// group with a particle outside the fluid (no sample) takes `update` one by one.
+    #[allow(clippy::too_many_arguments)]
+    fn block_in_lanes(
+        &self,
+        start: usize,
+        moving: Moving,
+        contact: Contact,
+        before: &mut impl BeforeMove,
+        lanes: &FluidLanes,
+        load: &mut [LoadShare],
+        update: &impl Fn(usize, &mut Vec3, &Vec3, &mut LoadShare),
+    ) -> BlockSums {
+        let Self { pass, h, dt, .. } = *self;
+        let (velocity, spin, position) = moving;
+        let (force, torque, count) = contact;
+        let mut sums = BlockSums::default();
+        let mut not_a_number = false;
+        let (mut inputs, mut results) = (LaneInputs::default(), LaneResults::default());
+        let (mut dv, mut dw) = ([Vec3::zeros(); LANES], [Vec3::zeros(); LANES]);
+        for group in (0..velocity.len()).step_by(LANES) {
+            let len = LANES.min(velocity.len() - group);
+            for i in 0..len {
+                let (j, k) = (group + i, start + group + i);
+                before.before_move(j, k, &self.properties, &position[j], &velocity[j], &spin[j], &mut force[j], &mut torque[j], &mut count[j]);
+                let m = self.properties.mass[k];
+                (dv[i], dw[i]) = (h * force[j] / m, h * torque[j] / self.inertia[k]);
+                if pass != Pass::Second {
+                    (force[j], torque[j], count[j]) = (Vec3::zeros(), Vec3::zeros(), 0);
+                }
+            }
+            let range = group..group + len;
+            let in_fluid = lanes.all_in_fluid(start + group, len);
+            let mut half_update = |velocity: &mut [Vec3], load: &mut [LoadShare], work: &mut f64| {
+                if in_fluid {
+                    lanes.update(start + group, velocity, load, h, work, &mut inputs, &mut results);
+                } else {
+                    for (i, (v, load)) in velocity.iter_mut().zip(load).enumerate() {
+                        let k = start + group + i;
+                        let before = v.norm_squared();
+                        update(k, v, &position[group + i], load);
+                        *work += 0.5 * self.properties.mass[k] * (v.norm_squared() - before);
+                    }
+                }
+            };
+            if pass != Pass::First {
+                half_update(&mut velocity[range.clone()], &mut load[range.clone()], &mut sums.work_second);
+                for i in 0..len {
+                    velocity[group + i] += dv[i];
+                    spin[group + i] += dw[i];
+                }
+            }
+            if pass == Pass::Second {
+                continue;
+            }
+            for i in 0..len {
+                velocity[group + i] += dv[i];
+                spin[group + i] += dw[i];
+            }
+            half_update(&mut velocity[range.clone()], &mut load[range.clone()], &mut sums.work_first);
+            for j in range {
+                position[j] = Motion::Free.drift(position[j], velocity[j], dt);
+                let displacement = match self.origins {
+                    Some(origins) => (position[j] - origins[start + j]).norm_squared(),
+                    None => f64::NAN,
+                };
+                not_a_number |= displacement.is_nan();
+                sums.max_displacement_sq = sums.max_displacement_sq.max(displacement);
+            }
+        }
+        if not_a_number {
+            sums.max_displacement_sq = f64::NAN;
+        }
+        before.after_block();
+        sums
+    }
+}
+
+/// What the non-contact update of free particles in a fluid reads, for [`update_lanes`].
+struct FluidLanes<'a> {
+    /// Indexed by the state's order (`state_index`); the rest by internal index.
+    fluid: &'a [Option<FluidAtParticle>],
+    state_index: &'a [usize],
+    diameter: &'a [f64],
+    density: &'a [f64],
+    volume: &'a [f64],
+    mass: &'a [f64],
+    law: DragLaw,
+    feedback: Option<Feedback>,
+    gravity: Vec3,
+}
+
+impl FluidLanes<'_> {
+    fn sample(&self, k: usize) -> Option<&FluidAtParticle> {
+        self.fluid.get(self.state_index[k]).and_then(Option::as_ref)
+    }
+
+    fn all_in_fluid(&self, first: usize, len: usize) -> bool {
+        (first..first + len).all(|k| self.sample(k).is_some())
+    }
+
+    /// Half the non-contact update (length `h`) of the particles from internal index `first`
+    /// (`velocity`, `load`: theirs), every one with a fluid sample; their work added to `work`
+    /// in their order. Lanes beyond the particles repeat the first one and are not read.
+    #[allow(clippy::too_many_arguments)]
+    fn update(&self, first: usize, velocity: &mut [Vec3], load: &mut [LoadShare], h: f64, work: &mut f64, inputs: &mut LaneInputs, results: &mut LaneResults) {
+        for lane in 0..LANES {
+            let i = if lane < velocity.len() { lane } else { 0 };
+            let k = first + i;
+            let fluid = self.sample(k).expect("the group was checked to be in the fluid");
+            inputs.set(lane, &velocity[i], fluid, self.diameter[k], self.density[k], self.volume[k], self.mass[k]);
+        }
+        update_lanes(self.law, self.feedback, self.gravity, h, inputs, results);
+        for (i, (v, load)) in velocity.iter_mut().zip(load).enumerate() {
+            *work += results.work[i];
+            *v = results.velocity(i);
+            if self.feedback.is_some() {
+                let share = results.share(i);
+                load.implicit_drag += share.implicit_drag;
+                load.explicit_force += share.explicit_force;
+                load.drag += share.drag;
+                load.slip_reynolds = share.slip_reynolds;
+            }
+        }
     }
 }

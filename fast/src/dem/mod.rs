@@ -18,6 +18,7 @@
 //! the same bits on any number of threads.
 
 pub mod arrays;
+pub mod drag_lanes;
 pub mod integrate;
 pub mod neighbour_list;
 pub mod pair_forces;

@@ -16,7 +16,7 @@
 //! the Coriolis part trapezoidal in u (as in [`super::rotating_frame::dry_particle_update`]),
 //! solved exactly.
 
-use super::drag::{drag_factor, DragLaw, FluidAtParticle, FluidForceStep};
+use super::drag::{drag_factor_and_reynolds, DragLaw, FluidAtParticle, FluidForceStep};
 use super::rotating_frame::RotatingFrame;
 use nalgebra::Vector3;
 
@@ -41,7 +41,7 @@ pub fn drag_and_buoyancy_step(
     let mass = volume * particle_density;
     let submerged = volume * (particle_density - fluid.density);
     let slip = (fluid.velocity - velocity).norm();
-    let k = drag_factor(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
+    let (k, slip_reynolds) = drag_factor_and_reynolds(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
     let mut explicit = k * fluid.velocity + submerged * gravity;
     if let Some(frame) = frame {
         explicit += submerged * frame.centrifugal_acceleration(position) + mass * 0.5 * frame.coriolis_acceleration(velocity);
@@ -53,13 +53,7 @@ pub fn drag_and_buoyancy_step(
         Some(frame) => frame.solve_coriolis_implicit(rhs, mass * dt / denominator),
         None => rhs,
     };
-    FluidForceStep {
-        velocity: new,
-        drag_factor: k,
-        drag: k * (fluid.velocity - new),
-        fluid_acceleration_force: Vec3::zeros(),
-        slip_reynolds: slip * diameter / fluid.kinematic_viscosity,
-    }
+    FluidForceStep { velocity: new, drag_factor: k, drag: k * (fluid.velocity - new), fluid_acceleration_force: Vec3::zeros(), slip_reynolds }
 }
 
 #[cfg(test)]

@@ -8,5 +8,6 @@ pub mod collision_time;
 pub mod contact;
 pub mod drag;
 pub mod drag_and_buoyancy;
+pub mod elementary;
 pub mod restitution;
 pub mod rotating_frame;

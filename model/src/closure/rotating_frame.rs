@@ -34,7 +34,7 @@
 
 use nalgebra::Vector3;
 
-use super::drag::{drag_factor, DragLaw, FluidAtParticle, FluidForceStep};
+use super::drag::{drag_factor_and_reynolds, DragLaw, FluidAtParticle, FluidForceStep};
 use super::restitution::ADDED_MASS_COEFFICIENT;
 use crate::case::{FieldError, Physics, RotatingFrameSection};
 
@@ -165,7 +165,7 @@ pub fn fluid_force_step_in_rotating_frame(
     let effective_mass = volume * (particle_density + ADDED_MASS_COEFFICIENT * fluid.density);
     let fluid_mass = volume * fluid.density;
     let slip = (fluid.velocity - velocity).norm();
-    let k = drag_factor(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
+    let (k, slip_reynolds) = drag_factor_and_reynolds(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
     let fluid_inertial_acceleration = fluid.material_acceleration - frame.fictitious_acceleration(fluid.velocity, position);
     let centrifugal = frame.centrifugal_acceleration(position);
     let explicit =
@@ -182,7 +182,7 @@ pub fn fluid_force_step_in_rotating_frame(
         drag: k * (fluid.velocity - new),
         fluid_acceleration_force: (1.0 + ADDED_MASS_COEFFICIENT) * fluid_mass * fluid_inertial_acceleration
             - ADDED_MASS_COEFFICIENT * fluid_mass * particle_inertial_acceleration,
-        slip_reynolds: slip * diameter / fluid.kinematic_viscosity,
+        slip_reynolds,
     }
 }
 

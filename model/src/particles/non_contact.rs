@@ -4,7 +4,7 @@
 
 use super::settings::{FluidForces, Motion};
 use super::state::Vec3;
-use crate::closure::drag::{fluid_force_step, held_fluid_force, DragLaw, FluidAtParticle};
+use crate::closure::drag::{fluid_force_step, held_fluid_force, DragLaw, FluidAtParticle, FluidForceStep};
 use crate::closure::drag_and_buoyancy::drag_and_buoyancy_step;
 use crate::closure::rotating_frame::{dry_particle_update, fluid_force_step_in_rotating_frame, RotatingFrame};
 use crate::coupling::Feedback;
@@ -84,13 +84,22 @@ impl NonContactForces {
             None => fluid_force_step(self.drag_law, velocity, diameter, density, fluid, self.gravity, dt),
             Some(frame) => fluid_force_step_in_rotating_frame(frame, self.drag_law, velocity, position, diameter, density, fluid, self.gravity, dt),
         };
-        let Some(feedback) = self.feedback else { return (step.velocity, None) };
+        let share = self.feedback.map(|feedback| LoadShare::of_update(feedback, &step, volume, density, fluid.density, self.gravity, dt));
+        (step.velocity, share)
+    }
+}
+
+impl LoadShare {
+    /// The share of one fluid-force update `step` of length `dt` (particle `volume` and
+    /// `density` in a fluid of `fluid_density`): ∫K dt and ∫(K u_p − F_AM − F_pg) dt (§8.4),
+    /// with −∫V_p(ρ_p − ρ_c) g dt more for the literal feedback (§2.6).
+    #[inline(always)]
+    pub fn of_update(feedback: Feedback, step: &FluidForceStep, volume: f64, density: f64, fluid_density: f64, gravity: Vec3, dt: f64) -> Self {
         let mut explicit = step.explicit_feedback();
         if feedback == Feedback::Literal {
-            explicit -= volume * (density - fluid.density) * self.gravity;
+            explicit -= volume * (density - fluid_density) * gravity;
         }
-        let share = LoadShare { implicit_drag: step.drag_factor * dt, explicit_force: explicit * dt, drag: step.drag * dt, slip_reynolds: step.slip_reynolds };
-        (step.velocity, Some(share))
+        LoadShare { implicit_drag: step.drag_factor * dt, explicit_force: explicit * dt, drag: step.drag * dt, slip_reynolds: step.slip_reynolds }
     }
 }
 
