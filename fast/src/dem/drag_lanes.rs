@@ -84,31 +84,38 @@ impl LaneResults {
 
 /// The free particles' fluid-force update over `dt` of every lane (`law`, `feedback` and
 /// `gravity` as [`spillage_model::particles::non_contact::NonContactForces`] holds them, without
-/// a rotating frame, with the full set of fluid forces), on the widest SIMD this CPU has.
-pub fn update_lanes(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, inputs: &LaneInputs, results: &mut LaneResults) {
+/// a rotating frame, with the full set of fluid forces).
+pub type LaneKernel = fn(DragLaw, Option<Feedback>, Vec3, f64, &LaneInputs, &mut LaneResults);
+
+/// The [`LaneKernel`] on the widest SIMD this CPU has: AVX-512 F, AVX2, or the baseline's.
+pub fn lane_kernel() -> LaneKernel {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked above)
-            return unsafe { update_lanes_avx512(law, feedback, gravity, dt, inputs, results) };
+            return |law, feedback, gravity, dt, inputs, results| {
+                // SAFETY: chosen only on a CPU with AVX-512 F (checked just above)
+                unsafe { update_lanes_avx512(law, feedback, gravity, dt, inputs, results) }
+            };
         }
         if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above)
-            return unsafe { update_lanes_avx2(law, feedback, gravity, dt, inputs, results) };
+            return |law, feedback, gravity, dt, inputs, results| {
+                // SAFETY: chosen only on a CPU with AVX2 (checked just above)
+                unsafe { update_lanes_avx2(law, feedback, gravity, dt, inputs, results) }
+            };
         }
     }
-    update_lanes_baseline(law, feedback, gravity, dt, inputs, results)
+    update_lanes_baseline
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-unsafe fn update_lanes_avx512(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, inputs: &LaneInputs, results: &mut LaneResults) {
+fn update_lanes_avx512(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, inputs: &LaneInputs, results: &mut LaneResults) {
     by_law(law, feedback, gravity, dt, inputs, results)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn update_lanes_avx2(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, inputs: &LaneInputs, results: &mut LaneResults) {
+fn update_lanes_avx2(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, inputs: &LaneInputs, results: &mut LaneResults) {
     by_law(law, feedback, gravity, dt, inputs, results)
 }
 
@@ -173,8 +180,8 @@ mod tests {
     use spillage_model::particles::non_contact::NonContactForces;
     use spillage_model::particles::settings::{FluidForces, Motion};
 
-    /// Lanes spread over creeping to turbulent slip, dense to lone (α_c = 1 exactly in one
-    /// lane), still and moving fluid, two diameters and densities.
+    /// Lanes spread over zero, creeping and turbulent slip, dense to lone (α_c = 1 exactly, and
+    /// just above 1), still and moving fluid, two diameters and densities.
     fn inputs(seed: u64) -> LaneInputs {
         let mut state = seed;
         let mut next = |low: f64, high: f64| {
@@ -185,12 +192,19 @@ mod tests {
         for j in 0..LANES {
             let speed = [0.0, 1e-7, 1e-4, 0.01, 0.1, 0.5, 1.0, 3.0][j];
             let velocity = Vec3::new(next(-1.0, 1.0), next(-1.0, 1.0), next(-1.0, 1.0)) * speed;
+            let fluid_velocity = Vec3::new(next(-0.2, 0.2), next(-0.2, 0.2), 0.0);
             let fluid = FluidAtParticle {
                 density: 998.2,
                 kinematic_viscosity: 1.0034e-6,
-                velocity: Vec3::new(next(-0.2, 0.2), next(-0.2, 0.2), 0.0),
+                // lane 0 at zero slip (ln 0 = −∞ in the drag law)
+                velocity: if j == 0 { velocity } else { fluid_velocity },
                 material_acceleration: Vec3::new(next(-2.0, 2.0), next(-2.0, 2.0), next(-2.0, 2.0)),
-                fluid_fraction: if j == 3 { 1.0 } else { next(0.55, 1.0) },
+                // lone (α = 1 exactly) and a mapping's round-off above 1
+                fluid_fraction: match j {
+                    3 => 1.0,
+                    5 => 1.0 + 1e-12,
+                    _ => next(0.55, 1.0),
+                },
             };
             let (d, rho): (f64, f64) = if j % 2 == 0 { (0.01, 2650.0) } else { (0.02, 1800.0) };
             let volume = std::f64::consts::PI * d.powi(3) / 6.0;
@@ -219,15 +233,15 @@ mod tests {
     #[test]
     fn lanes_compute_the_scalar_bits() {
         type Path = fn(DragLaw, Option<Feedback>, Vec3, f64, &LaneInputs, &mut LaneResults);
-        let mut paths: Vec<(&str, Path)> = vec![("baseline", update_lanes_baseline), ("dispatched", update_lanes)];
+        let mut paths: Vec<(&str, Path)> = vec![("baseline", update_lanes_baseline), ("chosen", lane_kernel())];
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: only called on a CPU with AVX2
+                // SAFETY: only called on a CPU with AVX2 (checked just above)
                 paths.push(("avx2", |l, f, g, d, x, r| unsafe { update_lanes_avx2(l, f, g, d, x, r) }));
             }
             if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: only called on a CPU with AVX-512F
+                // SAFETY: only called on a CPU with AVX-512 F (checked just above)
                 paths.push(("avx512", |l, f, g, d, x, r| unsafe { update_lanes_avx512(l, f, g, d, x, r) }));
             }
         }

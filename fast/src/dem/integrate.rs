@@ -14,7 +14,7 @@ use spillage_model::particles::settings::{FluidForces, Motion};
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::{ParticleArrays, ParticleProperties};
-use super::drag_lanes::{update_lanes, LaneInputs, LaneResults, LANES};
+use super::drag_lanes::{lane_kernel, LaneInputs, LaneKernel, LaneResults, LANES};
 use crate::team::{DisjointSlices, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
@@ -84,6 +84,10 @@ pub struct PassSums {
 /// torque and count (the walls'; the pairs' are added before the pass). `j` is its place in
 /// the pass's block, `k` its internal index; position, velocity and spin are the ones its
 /// contacts are evaluated at. Each block of the pass has its own (its block's state).
+///
+/// It may read only particle `k`'s own state and must be called in the block's order: the pass
+/// in lanes ([`PassKernel::block_in_lanes`]) calls it for a group of particles before it moves
+/// any of them, which changes nothing only under these two conditions.
 pub trait BeforeMove: Send {
     #[allow(clippy::too_many_arguments)]
     fn before_move(
@@ -138,6 +142,24 @@ pub fn advance_particles<B: BeforeMove>(
     team: &Team,
     before: impl Fn(usize) -> B + Sync,
 ) -> PassSums {
+    advance(pass, arrays, sums, forces, fluid, dt, origins, team, before, true)
+}
+
+/// [`advance_particles`], with the free particles in a fluid in [`LANES`] when `lanes_allowed`
+/// (the tests hold the two ways to the same bits).
+#[allow(clippy::too_many_arguments)]
+fn advance<B: BeforeMove>(
+    pass: Pass,
+    arrays: &mut ParticleArrays,
+    sums: &mut StepSums,
+    forces: &NonContactForces,
+    fluid: &[Option<FluidAtParticle>],
+    dt: f64,
+    origins: &[Vec3],
+    team: &Team,
+    before: impl Fn(usize) -> B + Sync,
+    lanes_allowed: bool,
+) -> PassSums {
     let ParticleArrays { state_index, id, material, diameter, density, radius, mass, inertia, volume, position, velocity, spin, force, torque, contacts } =
         arrays;
     let properties = ParticleProperties { id, material, diameter: &diameter[..], density: &density[..], radius, mass };
@@ -189,18 +211,20 @@ pub fn advance_particles<B: BeforeMove>(
             }
         };
         // free particles in a fluid, without a rotating frame: their drag laws in SIMD lanes
-        let lanes = (forces.motion == Motion::Free && forces.rotating_frame.is_none() && forces.fluid_forces == FluidForces::Full && !fluid.is_empty())
-            .then_some(FluidLanes {
-                fluid,
-                state_index: &state_index[..],
-                diameter: &diameter[..],
-                density: &density[..],
-                volume: &volume[..],
-                mass: kernel.properties.mass,
-                law: forces.drag_law,
-                feedback: forces.feedback,
-                gravity: forces.gravity,
-            });
+        let in_lanes =
+            lanes_allowed && forces.motion == Motion::Free && forces.rotating_frame.is_none() && forces.fluid_forces == FluidForces::Full && !fluid.is_empty();
+        let lanes = in_lanes.then(|| FluidLanes {
+            fluid,
+            state_index: &state_index[..],
+            diameter: &diameter[..],
+            density: &density[..],
+            volume: &volume[..],
+            mass: kernel.properties.mass,
+            law: forces.drag_law,
+            feedback: forces.feedback,
+            gravity: forces.gravity,
+            kernel: lane_kernel(),
+        });
         team.run(blocks_of(n), &|b| {
             let (start, moving, contact, load, out) = block(b);
             *out = match (&lanes, forces.motion) {
@@ -386,7 +410,7 @@ impl PassKernel<'_> {
     }
 }
 
-/// What the non-contact update of free particles in a fluid reads, for [`update_lanes`].
+/// What the non-contact update of free particles in a fluid reads, for [`lane_kernel`].
 struct FluidLanes<'a> {
     /// Indexed by the state's order (`state_index`); the rest by internal index.
     fluid: &'a [Option<FluidAtParticle>],
@@ -398,6 +422,8 @@ struct FluidLanes<'a> {
     law: DragLaw,
     feedback: Option<Feedback>,
     gravity: Vec3,
+    /// The widest SIMD this CPU has, chosen once per pass.
+    kernel: LaneKernel,
 }
 
 impl FluidLanes<'_> {
@@ -420,7 +446,7 @@ impl FluidLanes<'_> {
             let fluid = self.sample(k).expect("the group was checked to be in the fluid");
             inputs.set(lane, &velocity[i], fluid, self.diameter[k], self.density[k], self.volume[k], self.mass[k]);
         }
-        update_lanes(self.law, self.feedback, self.gravity, h, inputs, results);
+        (self.kernel)(self.law, self.feedback, self.gravity, h, inputs, results);
         for (i, (v, load)) in velocity.iter_mut().zip(load).enumerate() {
             *work += results.work[i];
             *v = results.velocity(i);
@@ -432,5 +458,116 @@ impl FluidLanes<'_> {
                 load.slip_reynolds = share.slip_reynolds;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::counting_allocator::{count_during, mark_this_thread};
+    use crate::team::with_team;
+    use spillage_model::particles::state::Particle;
+
+    /// 300 particles (a block of 256 and one of 44: five full groups and one of four), two
+    /// sizes and densities, with contact forces to kick with, in a moving fluid; particle 270
+    /// has no fluid sample (its group takes the scalar update).
+    fn particles_in_a_fluid() -> (ParticleArrays, Vec<Option<FluidAtParticle>>, Vec<Vec3>) {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = |low: f64, high: f64| {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            low + (high - low) * ((state >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let mut v = |scale: f64| Vec3::new(next(-scale, scale), next(-scale, scale), next(-scale, scale));
+        let particles: Vec<Particle> = (0..300)
+            .map(|i| {
+                let (diameter, density) = if i % 3 == 0 { (0.02, 1800.0) } else { (0.01, 2650.0) };
+                Particle {
+                    id: i as u64,
+                    material: 0,
+                    diameter,
+                    density,
+                    position: v(0.5),
+                    velocity: v(0.3),
+                    spin: v(5.0),
+                    contact_force: v(1e-2),
+                    contact_torque: v(1e-6),
+                    contacts: (i % 4) as u32,
+                }
+            })
+            .collect();
+        let fluid = (0..300)
+            .map(|i| {
+                (i != 270).then(|| FluidAtParticle {
+                    density: 998.2,
+                    kinematic_viscosity: 1.0034e-6,
+                    velocity: v(0.2),
+                    material_acceleration: v(1.0),
+                    fluid_fraction: 0.6 + 0.4 * (i % 7) as f64 / 6.0,
+                })
+            })
+            .collect();
+        let mut arrays = ParticleArrays::default();
+        arrays.load(&particles, 0.05);
+        let origins = arrays.position.iter().map(|x| x + Vec3::new(1e-4, 0.0, 0.0)).collect();
+        (arrays, fluid, origins)
+    }
+
+    /// The passes in lanes give the bits of the particle-by-particle passes: positions,
+    /// velocities, spins, the contact sums left for the next sub-step, the load shares and the
+    /// pass sums, for each kind of pass; and a pass in lanes allocates nothing.
+    #[test]
+    fn passes_in_lanes_have_the_bits_of_the_scalar_passes() {
+        let forces = NonContactForces {
+            drag_law: DragLaw::BrownLawler,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            rotating_frame: None,
+            feedback: Some(Feedback::DragAndFluidAcceleration),
+            motion: Motion::Free,
+            fluid_forces: FluidForces::Full,
+        };
+        let (arrays, fluid, origins) = particles_in_a_fluid();
+        let n = arrays.len();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).start_handler(|_| mark_this_thread()).build().expect("pool");
+        pool.install(|| {
+            with_team(|team| {
+                let ((mut scalar, _, _), mut lanes) = (particles_in_a_fluid(), arrays);
+                let (mut scalar_sums, mut lane_sums) = (StepSums::default(), StepSums::default());
+                scalar_sums.reset(n);
+                lane_sums.reset(n);
+                for (i, pass) in [Pass::First, Pass::Between, Pass::Between, Pass::Second].into_iter().enumerate() {
+                    let a = advance(pass, &mut scalar, &mut scalar_sums, &forces, &fluid, 3e-5, &origins, team, |_| NothingToAdd, false);
+                    let (b, allocations) =
+                        count_during(|| advance(pass, &mut lanes, &mut lane_sums, &forces, &fluid, 3e-5, &origins, team, |_| NothingToAdd, true));
+                    // the first pass sizes the block sums
+                    assert!(i == 0 || allocations == 0, "a pass in lanes allocated {allocations} times");
+                    let bits = |v: &[Vec3]| v.iter().map(|x| x.map(f64::to_bits)).collect::<Vec<_>>();
+                    for (name, x, y) in [
+                        ("position", &scalar.position, &lanes.position),
+                        ("velocity", &scalar.velocity, &lanes.velocity),
+                        ("spin", &scalar.spin, &lanes.spin),
+                        ("force", &scalar.force, &lanes.force),
+                        ("torque", &scalar.torque, &lanes.torque),
+                    ] {
+                        assert_eq!(bits(x), bits(y), "{name} after {:?}", pass as u8);
+                    }
+                    assert_eq!(scalar.contacts, lanes.contacts);
+                    for (s, l) in scalar_sums.load.iter().zip(&lane_sums.load) {
+                        assert_eq!(s.implicit_drag.to_bits(), l.implicit_drag.to_bits());
+                        assert_eq!(
+                            (s.explicit_force.map(f64::to_bits), s.drag.map(f64::to_bits)),
+                            (l.explicit_force.map(f64::to_bits), l.drag.map(f64::to_bits))
+                        );
+                        assert_eq!(s.slip_reynolds.to_bits(), l.slip_reynolds.to_bits());
+                    }
+                    assert_eq!(
+                        (a.work_second.to_bits(), a.work_first.to_bits(), a.max_displacement_sq.to_bits()),
+                        (b.work_second.to_bits(), b.work_first.to_bits(), b.max_displacement_sq.to_bits())
+                    );
+                }
+                // the passes did something: the particle without a sample fell freely, the
+                // others were dragged
+                assert!(scalar_sums.load.iter().filter(|l| l.implicit_drag > 0.0).count() == 299);
+            })
+        });
     }
 }

@@ -40,7 +40,8 @@ pub fn drag_coefficient(law: DragLaw, reynolds: f64) -> f64 {
     }
 }
 
-/// Di Felice exponent β(Re_p) = 3.7 − 0.65 exp(−(1.5 − log₁₀ Re_p)²/2) (T3.58); 3.7 at Re_p = 0.
+/// Di Felice exponent β(Re_p) = 3.7 − 0.65 exp(−(1.5 − log₁₀ Re_p)²/2) (T3.58); 3.7 at Re_p = 0,
+/// NaN for a negative Re_p.
 pub fn di_felice_exponent(particle_reynolds: f64) -> f64 {
     di_felice_exponent_of_log(ln(particle_reynolds))
 }
@@ -86,14 +87,15 @@ pub fn drag_factor(law: DragLaw, diameter: f64, fluid_density: f64, kinematic_vi
 /// dividing by Re_s, so zero slip needs no branch (Re_s^0.681 = exp(0.681 ln 0) = 0), and
 /// Re_s^0.681 is exp(0.681 ln Re_s) with the ln β needs too. This is the particles' hottest
 /// formula (P3 fine: two updates per particle per DEM sub-step, 62 sub-steps a fluid step);
-/// written this way, with [`super::elementary`]'s `exp` and `ln`, it has no call and no branch
-/// left, and the fast particle phase runs it in SIMD lanes.
+/// written this way, with [`super::elementary`]'s `exp` and `ln`, it calls nothing, its
+/// choices (the law, Schiller–Naumann's switch at Re_s = 1000, α_c ≥ 1) are selects between
+/// computed values, and the fast particle phase runs it in SIMD lanes.
 #[inline(always)]
 pub fn drag_factor_and_reynolds(law: DragLaw, diameter: f64, fluid_density: f64, kinematic_viscosity: f64, slip_speed: f64, fluid_fraction: f64) -> (f64, f64) {
     let reynolds = slip_speed * diameter / kinematic_viscosity;
     let ln_reynolds = ln(reynolds);
     let stokes = 3.0 * std::f64::consts::PI * fluid_density * kinematic_viscosity * diameter;
-    // ½ C A ρ |u| for a constant coefficient C
+    // the inertial part, ½ C A ρ |u| for a coefficient C that does not grow as 1/Re_s
     let form = |c: f64| 0.5 * c * (0.25 * std::f64::consts::PI * diameter * diameter) * fluid_density * slip_speed;
     let single = match law {
         // (T3.41)
@@ -170,8 +172,10 @@ impl FluidForceStep {
 /// [`fluid_force_update`] with the forces it applied.
 #[inline(always)]
 pub fn fluid_force_step(law: DragLaw, velocity: Vec3, diameter: f64, particle_density: f64, fluid: &FluidAtParticle, gravity: Vec3, dt: f64) -> FluidForceStep {
-    // divisions written as one reciprocal each: this runs twice per particle per DEM sub-step
-    let volume = std::f64::consts::FRAC_PI_6 * diameter * diameter * diameter;
+    // the new velocity and the particle's acceleration each take one reciprocal instead of three
+    // divisions: this runs twice per particle per DEM sub-step. The volume is written as
+    // `Particle::volume` writes it, so that a particle has one volume to the bit.
+    let volume = std::f64::consts::PI * diameter.powi(3) / 6.0;
     let effective_mass = volume * (particle_density + ADDED_MASS_COEFFICIENT * fluid.density);
     let slip = (fluid.velocity - velocity).norm();
     let (k, slip_reynolds) = drag_factor_and_reynolds(law, diameter, fluid.density, fluid.kinematic_viscosity, slip, fluid.fluid_fraction);
@@ -245,11 +249,13 @@ mod tests {
         let literal = |law: DragLaw, slip: f64, alpha: f64| {
             let re = slip * d / nu;
             let beta = if alpha * re <= 0.0 { 3.7 } else { 3.7 - 0.65 * (-(1.5 - (alpha * re).log10()).powi(2) / 2.0).exp() };
-            0.5 * drag_coefficient(law, re) * std::f64::consts::PI * d * d / 4.0 * rho * slip * alpha.powf(1.0 - beta)
+            // a mapping's round-off above α_c = 1 is a lone particle: no hindrance
+            let hindrance = if alpha >= 1.0 { 1.0 } else { alpha.powf(1.0 - beta) };
+            0.5 * drag_coefficient(law, re) * std::f64::consts::PI * d * d / 4.0 * rho * slip * hindrance
         };
         for law in [DragLaw::BrownLawler, DragLaw::SchillerNaumann, DragLaw::Stokes] {
             for re in [1e-9, 1e-3, 0.5, 1.0, 24.0, 999.0, 1000.0, 1001.0, 7332.78, 1e5] {
-                for alpha in [0.5, 0.692, 0.9, 0.999_999, 1.0] {
+                for alpha in [0.5, 0.692, 0.9, 0.999_999, 1.0, 1.0 + 1e-12] {
                     let slip = re * nu / d;
                     let (k, reynolds) = drag_factor_and_reynolds(law, d, rho, nu, slip, alpha);
                     assert_relative_eq!(k, literal(law, slip, alpha), max_relative = 1e-14);
