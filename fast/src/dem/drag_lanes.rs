@@ -35,6 +35,25 @@ pub struct LaneInputs {
 }
 
 impl LaneInputs {
+    /// Lane `j`'s particle velocity.
+    #[inline(always)]
+    pub fn velocity(&self, j: usize) -> Vec3 {
+        Vec3::new(self.velocity[0][j], self.velocity[1][j], self.velocity[2][j])
+    }
+
+    /// What lane `j`'s particle sees of the fluid.
+    #[inline(always)]
+    pub fn fluid(&self, j: usize) -> FluidAtParticle {
+        let three = |a: &[Lane; 3]| Vec3::new(a[0][j], a[1][j], a[2][j]);
+        FluidAtParticle {
+            density: self.fluid_density[j],
+            kinematic_viscosity: self.kinematic_viscosity[j],
+            velocity: three(&self.fluid_velocity),
+            material_acceleration: three(&self.fluid_acceleration),
+            fluid_fraction: self.fluid_fraction[j],
+        }
+    }
+
     /// Puts particle (`velocity`, `diameter`, `density`, `volume`, `mass`) in `fluid` into `lane`.
     #[inline]
     #[allow(clippy::too_many_arguments)]
@@ -146,15 +165,7 @@ fn by_feedback(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64,
 #[inline(always)]
 fn lanes(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, x: &LaneInputs, out: &mut LaneResults) {
     for j in 0..LANES {
-        let three = |a: &[Lane; 3]| Vec3::new(a[0][j], a[1][j], a[2][j]);
-        let velocity = three(&x.velocity);
-        let fluid = FluidAtParticle {
-            density: x.fluid_density[j],
-            kinematic_viscosity: x.kinematic_viscosity[j],
-            velocity: three(&x.fluid_velocity),
-            material_acceleration: three(&x.fluid_acceleration),
-            fluid_fraction: x.fluid_fraction[j],
-        };
+        let (velocity, fluid) = (x.velocity(j), x.fluid(j));
         // the operations of `NonContactForces::update` and of the pass's work, in their order
         let before = velocity.norm_squared();
         let step = fluid_force_step(law, velocity, x.diameter[j], x.density[j], &fluid, gravity, dt);
@@ -215,15 +226,7 @@ mod tests {
 
     /// What the scalar model code gives for lane j: `NonContactForces::update` and the work.
     fn scalar(forces: &NonContactForces, x: &LaneInputs, dt: f64, j: usize) -> (Vec3, Option<LoadShare>, f64) {
-        let three = |a: &[Lane; 3]| Vec3::new(a[0][j], a[1][j], a[2][j]);
-        let fluid = FluidAtParticle {
-            density: x.fluid_density[j],
-            kinematic_viscosity: x.kinematic_viscosity[j],
-            velocity: three(&x.fluid_velocity),
-            material_acceleration: three(&x.fluid_acceleration),
-            fluid_fraction: x.fluid_fraction[j],
-        };
-        let v = three(&x.velocity);
+        let (v, fluid) = (x.velocity(j), x.fluid(j));
         let (after, share) = forces.update(v, Vec3::zeros(), x.diameter[j], x.density[j], x.volume[j], Some(&fluid), dt);
         (after, share, 0.5 * x.mass[j] * (after.norm_squared() - v.norm_squared()))
     }

@@ -282,8 +282,6 @@ impl PassKernel<'_> {
         let (velocity, spin, position) = moving;
         let (force, torque, count) = contact;
         let mut sums = BlockSums::default();
-        // whether a displacement was not a number (no build positions, or a particle gone
-        // wrong): the block's largest is then NaN
         let mut not_a_number = false;
         for (j, ((v, w), x)) in velocity.iter_mut().zip(spin.iter_mut()).zip(position.iter_mut()).enumerate() {
             let k = start + j;
@@ -314,18 +312,21 @@ impl PassKernel<'_> {
             *w = motion.kick(*w, dw);
             sums.work_first += updated(v);
             *x = motion.drift(*x, *v, dt);
-            let displacement = match self.origins {
-                Some(origins) => (*x - origins[k]).norm_squared(),
-                None => f64::NAN,
-            };
-            not_a_number |= displacement.is_nan();
-            sums.max_displacement_sq = sums.max_displacement_sq.max(displacement);
+            self.record_displacement(x, k, &mut sums, &mut not_a_number);
         }
-        if not_a_number {
-            sums.max_displacement_sq = f64::NAN;
-        }
-        before.after_block();
-        sums
+        finish_block(before, sums, not_a_number)
+    }
+
+    /// Adds particle `k`'s squared displacement from the neighbour list's build position, at
+    /// `x` after its drift, to the block's largest (`not_a_number`: whether one was NaN).
+    #[inline]
+    fn record_displacement(&self, x: &Vec3, k: usize, sums: &mut BlockSums, not_a_number: &mut bool) {
+        let displacement = match self.origins {
+            Some(origins) => (*x - origins[k]).norm_squared(),
+            None => f64::NAN,
+        };
+        *not_a_number |= displacement.is_nan();
+        sums.max_displacement_sq = sums.max_displacement_sq.max(displacement);
     }
 
     /// [`Self::block`] for free particles with [`FluidLanes`]: the same operations on each
@@ -394,20 +395,21 @@ impl PassKernel<'_> {
             half_update(&mut velocity[range.clone()], &mut load[range.clone()], &mut sums.work_first);
             for j in range {
                 position[j] = Motion::Free.drift(position[j], velocity[j], dt);
-                let displacement = match self.origins {
-                    Some(origins) => (position[j] - origins[start + j]).norm_squared(),
-                    None => f64::NAN,
-                };
-                not_a_number |= displacement.is_nan();
-                sums.max_displacement_sq = sums.max_displacement_sq.max(displacement);
+                self.record_displacement(&position[j], start + j, &mut sums, &mut not_a_number);
             }
         }
-        if not_a_number {
-            sums.max_displacement_sq = f64::NAN;
-        }
-        before.after_block();
-        sums
+        finish_block(before, sums, not_a_number)
     }
+}
+
+/// A block's sums once it has moved every particle: its largest displacement NaN if one was
+/// (no build positions, or a particle gone wrong), and `before` told the block is done.
+fn finish_block(before: &mut impl BeforeMove, mut sums: BlockSums, not_a_number: bool) -> BlockSums {
+    if not_a_number {
+        sums.max_displacement_sq = f64::NAN;
+    }
+    before.after_block();
+    sums
 }
 
 /// What the non-contact update of free particles in a fluid reads, for [`lane_kernel`].
