@@ -314,6 +314,10 @@ fn a_two_way_coupled_run_writes_the_coupling_fields() {
     for column in ["particles", "escaped", "alpha_p_max", "alpha_c_clamped", "particle_volume"] {
         assert!(series.column(column).is_some(), "series column {column} missing");
     }
+    // a fast coupled run names the lanes its drag laws took (its speed depends on them)
+    let summary = Summary::read(&out.join("summary.json")).unwrap();
+    let kernel = summary.details["dem_drag_kernel"].as_str().expect("dem_drag_kernel in the summary");
+    assert!(["AVX-512, eight particles a call", "AVX2, eight particles a call", "portable lanes, eight particles a call"].contains(&kernel), "{kernel}");
 }
 
 #[test]

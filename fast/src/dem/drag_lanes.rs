@@ -106,6 +106,21 @@ impl LaneResults {
 /// a rotating frame, with the full set of fluid forces).
 pub type LaneKernel = fn(DragLaw, Option<Feedback>, Vec3, f64, &LaneInputs, &mut LaneResults);
 
+/// The lanes [`lane_kernel`] takes on this CPU, as a run's summary names them
+/// (`dem_drag_kernel`): a coupled run's speed depends on them, its bits do not.
+pub fn describe_lane_kernel() -> &'static str {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return "AVX-512, eight particles a call";
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return "AVX2, eight particles a call";
+        }
+    }
+    "portable lanes, eight particles a call"
+}
+
 /// The [`LaneKernel`] on the widest SIMD this CPU has: AVX-512 F, AVX2, or the baseline's.
 pub fn lane_kernel() -> LaneKernel {
     #[cfg(target_arch = "x86_64")]
