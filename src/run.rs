@@ -113,9 +113,13 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if case.particles.is_some() && opts.solver == SolverChoice::Fast {
         // the particle-steps per second of a run depend on it (README, "The fast particle path")
         summary.set_detail("dem_pair_kernel", spillage_fast::dem::pair_forces::PairKernel::detect().describe());
-        if case.fluid.is_some() || case.particles.as_ref().is_some_and(|p| p.ambient.is_some()) {
-            // the particles' drag laws in lanes (README, "The drag law in lanes")
-            summary.set_detail("dem_drag_kernel", spillage_fast::dem::drag_lanes::describe_lane_kernel());
+        // the particles' drag laws in lanes (README, "The drag law in lanes"), where they take them
+        use spillage_fast::dem::drag_lanes::{takes_lanes, LaneWidth};
+        if let Some(section) = &case.particles {
+            let in_fluid = case.fluid.is_some() || section.ambient.as_ref().is_some_and(|a| a.forces);
+            if in_fluid && takes_lanes(section.motion, case.physics.rotating_frame.is_some(), section.fluid_forces) {
+                summary.set_detail("dem_drag_kernel", LaneWidth::detect().describe());
+            }
         }
     }
     summary.set_detail("derived", serde_json::to_value(spillage::check::derive(&case))?);

@@ -12,6 +12,7 @@
 use spillage_model::closure::drag::{fluid_force_step, DragLaw, FluidAtParticle};
 use spillage_model::coupling::Feedback;
 use spillage_model::particles::non_contact::LoadShare;
+use spillage_model::particles::settings::{FluidForces, Motion};
 use spillage_model::particles::state::Vec3;
 
 /// Particles per call: one AVX-512 register of doubles.
@@ -106,39 +107,63 @@ impl LaneResults {
 /// a rotating frame, with the full set of fluid forces).
 pub type LaneKernel = fn(DragLaw, Option<Feedback>, Vec3, f64, &LaneInputs, &mut LaneResults);
 
-/// The lanes [`lane_kernel`] takes on this CPU, as a run's summary names them
-/// (`dem_drag_kernel`): a coupled run's speed depends on them, its bits do not.
-pub fn describe_lane_kernel() -> &'static str {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            return "AVX-512, eight particles a call";
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return "AVX2, eight particles a call";
-        }
-    }
-    "portable lanes, eight particles a call"
+/// Whether a pass updates its particles in lanes (given a fluid sample for them): free
+/// particles under the full set of fluid forces, without a rotating frame. The lanes inline
+/// [`fluid_force_step`] only; the held particles', the wear model's drag-and-buoyancy and the
+/// rotating frame's updates stay particle by particle.
+pub fn takes_lanes(motion: Motion, rotating_frame: bool, fluid_forces: FluidForces) -> bool {
+    motion == Motion::Free && !rotating_frame && fluid_forces == FluidForces::Full
 }
 
-/// The [`LaneKernel`] on the widest SIMD this CPU has: AVX-512 F, AVX2, or the baseline's.
-pub fn lane_kernel() -> LaneKernel {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            return |law, feedback, gravity, dt, inputs, results| {
-                // SAFETY: chosen only on a CPU with AVX-512 F (checked just above)
-                unsafe { update_lanes_avx512(law, feedback, gravity, dt, inputs, results) }
-            };
+/// The SIMD a [`LaneKernel`] can use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LaneWidth {
+    Avx512,
+    Avx2,
+    Portable,
+}
+
+impl LaneWidth {
+    /// The widest this CPU has.
+    pub fn detect() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return LaneWidth::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return LaneWidth::Avx2;
+            }
         }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return |law, feedback, gravity, dt, inputs, results| {
-                // SAFETY: chosen only on a CPU with AVX2 (checked just above)
-                unsafe { update_lanes_avx2(law, feedback, gravity, dt, inputs, results) }
-            };
+        LaneWidth::Portable
+    }
+
+    /// As a run's summary names it (`dem_drag_kernel`): a coupled run's speed depends on it,
+    /// its bits do not.
+    pub fn describe(self) -> &'static str {
+        match self {
+            LaneWidth::Avx512 => "AVX-512, eight particles a call",
+            LaneWidth::Avx2 => "AVX2, eight particles a call",
+            LaneWidth::Portable => "portable lanes, eight particles a call",
         }
     }
-    update_lanes_baseline
+}
+
+/// The [`LaneKernel`] on the widest SIMD this CPU has ([`LaneWidth::detect`]).
+pub fn lane_kernel() -> LaneKernel {
+    match LaneWidth::detect() {
+        #[cfg(target_arch = "x86_64")]
+        LaneWidth::Avx512 => |law, feedback, gravity, dt, inputs, results| {
+            // SAFETY: chosen only on a CPU with AVX-512 F (`LaneWidth::detect`)
+            unsafe { update_lanes_avx512(law, feedback, gravity, dt, inputs, results) }
+        },
+        #[cfg(target_arch = "x86_64")]
+        LaneWidth::Avx2 => |law, feedback, gravity, dt, inputs, results| {
+            // SAFETY: chosen only on a CPU with AVX2 (`LaneWidth::detect`)
+            unsafe { update_lanes_avx2(law, feedback, gravity, dt, inputs, results) }
+        },
+        _ => update_lanes_baseline,
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -204,7 +229,6 @@ fn lanes(law: DragLaw, feedback: Option<Feedback>, gravity: Vec3, dt: f64, x: &L
 mod tests {
     use super::*;
     use spillage_model::particles::non_contact::NonContactForces;
-    use spillage_model::particles::settings::{FluidForces, Motion};
 
     /// Lanes spread over zero, creeping and turbulent slip, dense to lone (α_c = 1 exactly, and
     /// just above 1), still and moving fluid, two diameters and densities.

@@ -10,11 +10,11 @@
 use spillage_model::closure::drag::{DragLaw, FluidAtParticle};
 use spillage_model::coupling::Feedback;
 use spillage_model::particles::non_contact::{LoadShare, NonContactForces};
-use spillage_model::particles::settings::{FluidForces, Motion};
+use spillage_model::particles::settings::Motion;
 use spillage_model::particles::state::Vec3;
 
 use super::arrays::{ParticleArrays, ParticleProperties};
-use super::drag_lanes::{lane_kernel, LaneInputs, LaneKernel, LaneResults, LANES};
+use super::drag_lanes::{lane_kernel, takes_lanes, LaneInputs, LaneKernel, LaneResults, LANES};
 use crate::team::{DisjointSlices, Team};
 
 /// Particles per block of a pass: the pass sums its work block by block, each block in internal
@@ -211,8 +211,7 @@ fn advance<B: BeforeMove>(
             }
         };
         // free particles in a fluid, without a rotating frame: their drag laws in SIMD lanes
-        let in_lanes =
-            lanes_allowed && forces.motion == Motion::Free && forces.rotating_frame.is_none() && forces.fluid_forces == FluidForces::Full && !fluid.is_empty();
+        let in_lanes = lanes_allowed && !fluid.is_empty() && takes_lanes(forces.motion, forces.rotating_frame.is_some(), forces.fluid_forces);
         let lanes = in_lanes.then(|| FluidLanes {
             fluid,
             state_index: &state_index[..],
@@ -318,7 +317,8 @@ impl PassKernel<'_> {
     }
 
     /// Adds particle `k`'s squared displacement from the neighbour list's build position, at
-    /// `x` after its drift, to the block's largest (`not_a_number`: whether one was NaN).
+    /// `x` after its drift, to the block's largest (`not_a_number`: whether one was NaN): the
+    /// list is rebuilt once a particle has moved half its skin, and a NaN must force that.
     #[inline]
     fn record_displacement(&self, x: &Vec3, k: usize, sums: &mut BlockSums, not_a_number: &mut bool) {
         let displacement = match self.origins {
@@ -468,6 +468,7 @@ mod tests {
     use super::*;
     use crate::counting_allocator::{count_during, mark_this_thread};
     use crate::team::with_team;
+    use spillage_model::particles::settings::FluidForces;
     use spillage_model::particles::state::Particle;
 
     /// 300 particles (a block of 256 and one of 44: five full groups and one of four), two
