@@ -204,10 +204,7 @@ fn advance<B: BeforeMove>(
             };
             *v = after;
             if let Some(share) = share {
-                load.implicit_drag += share.implicit_drag;
-                load.explicit_force += share.explicit_force;
-                load.drag += share.drag;
-                load.slip_reynolds = share.slip_reynolds;
+                load.add(&share);
             }
         };
         // free particles in a fluid, without a rotating frame: their drag laws in SIMD lanes
@@ -453,11 +450,7 @@ impl FluidLanes<'_> {
             *work += results.work[i];
             *v = results.velocity(i);
             if self.feedback.is_some() {
-                let share = results.share(i);
-                load.implicit_drag += share.implicit_drag;
-                load.explicit_force += share.explicit_force;
-                load.drag += share.drag;
-                load.slip_reynolds = share.slip_reynolds;
+                load.add(&results.share(i));
             }
         }
     }

@@ -90,6 +90,16 @@ impl NonContactForces {
 }
 
 impl LoadShare {
+    /// Adds the share of a later update of the step: the integrals add up, the slip Reynolds
+    /// number is the latest update's.
+    #[inline]
+    pub fn add(&mut self, later: &LoadShare) {
+        self.implicit_drag += later.implicit_drag;
+        self.explicit_force += later.explicit_force;
+        self.drag += later.drag;
+        self.slip_reynolds = later.slip_reynolds;
+    }
+
     /// The share of one fluid-force update `step` of length `dt` (particle `volume` and
     /// `density` in a fluid of `fluid_density`): ∫K dt and ∫(K u_p − F_AM − F_pg) dt (§8.4),
     /// with −∫V_p(ρ_p − ρ_c) g dt more for the literal feedback (§2.6).
