@@ -35,6 +35,29 @@ impl Real for f32 {
     }
 }
 
+/// `step(… step(step(init, v₀ x_{c₀}), v₁ x_{c₁}) …)` over the entries (`cols`, `vals`) of a
+/// row, in their order. A row of four entries (the interior rows of a 2-D hexahedral mesh's
+/// 5-point stencil and of its coarse levels) is written out, without the loop's branch, whose
+/// exit the short loop mispredicts; the operations and their order, so the bits, are those of
+/// the loop. (`pressure_solve` on a 100² grid: about 10 % less time a CG iteration on one
+/// thread and 15 % on two, minimum of 8–10 alternating runs; a second special case for six
+/// entries, the 3-D stencil's, gained nothing on a 24³ grid and cost the 2-D case its gain.)
+#[inline(always)]
+pub(super) fn fold_row<T: Real>(cols: &[u32], vals: &[T], init: f64, x_at: impl Fn(usize) -> f64, step: impl Fn(f64, f64) -> f64) -> f64 {
+    let term = |k: usize| vals[k].get() * x_at(cols[k] as usize);
+    let mut s = init;
+    if cols.len() == 4 && vals.len() == 4 {
+        s = step(s, term(0));
+        s = step(s, term(1));
+        s = step(s, term(2));
+        return step(s, term(3));
+    }
+    for (&c, &v) in cols.iter().zip(vals) {
+        s = step(s, v.get() * x_at(c as usize));
+    }
+    s
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Csr<T = f64> {
     pub n: usize,
@@ -50,11 +73,7 @@ impl<T: Real> Csr<T> {
     #[inline(always)]
     fn row_off_diagonal_with(&self, r: usize, x_at: impl Fn(usize) -> f64) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
-        let mut s = 0.0;
-        for (&c, &v) in self.col[lo..hi].iter().zip(&self.val[lo..hi]) {
-            s += v.get() * x_at(c as usize);
-        }
-        s
+        fold_row(&self.col[lo..hi], &self.val[lo..hi], 0.0, x_at, |s, t| s + t)
     }
 
     /// Σ_j a_rj x_j over the off-diagonal entries of row r.
@@ -124,5 +143,28 @@ impl<T: Real> Csr<T> {
     pub fn row_sum(&self, r: usize) -> f64 {
         let (lo, hi) = (self.row_start[r] as usize, self.row_start[r + 1] as usize);
         self.diag[r].get() + self.val[lo..hi].iter().map(|v| v.get()).sum::<f64>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The written-out row of four entries gives the loop's bits, for sums and for the
+    /// sweep's differences, in f64 and f32 storage; other lengths take the loop.
+    #[test]
+    fn a_row_written_out_gives_the_bits_of_the_loop() {
+        let x: Vec<f64> = (0..16).map(|i| (i as f64 * 0.37).sin() * 10f64.powi(i % 7 - 3)).collect();
+        for len in 0..9 {
+            let cols: Vec<u32> = (0..len).map(|k| ((k * 5 + 3) % 16) as u32).collect();
+            let vals: Vec<f64> = (0..len).map(|k| -1.0 / (k as f64 + 1.3)).collect();
+            let vals32: Vec<f32> = vals.iter().map(|&v| v as f32).collect();
+            for (init, step) in [(0.0, (|s, t| s + t) as fn(f64, f64) -> f64), (0.731, |s, t| s - t)] {
+                let looped = cols.iter().zip(&vals).fold(init, |s, (&c, &v)| step(s, v * x[c as usize]));
+                let looped32 = cols.iter().zip(&vals32).fold(init, |s, (&c, &v)| step(s, v.get() * x[c as usize]));
+                assert_eq!(fold_row(&cols, &vals, init, |c| x[c], step).to_bits(), looped.to_bits(), "{len} entries, f64");
+                assert_eq!(fold_row(&cols, &vals32, init, |c| x[c], step).to_bits(), looped32.to_bits(), "{len} entries, f32");
+            }
+        }
     }
 }

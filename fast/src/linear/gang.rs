@@ -11,9 +11,9 @@
 //! head's pressure solve was no faster on two threads than on one. A barrier of a gang costs a
 //! fraction of a microsecond.
 //!
-//! Determinism: a sum is cut into fixed chunks of [`CHUNK`] entries whatever the gang's size,
-//! each chunk summed in index order, the chunk sums added in chunk order by every member (the
-//! bits of rayon's [`super::reduce::Reducer`], so of one thread); element-wise loops write
+//! Determinism: a sum is cut into fixed chunks of [`GANG_CHUNK`] entries whatever the gang's
+//! size, each chunk summed in index order, the chunk sums added in chunk order by every member
+//! (the bits of one thread); element-wise loops write
 //! disjoint entries. A gang that gathers fewer members than the pool has threads (the others
 //! busy) computes the same bits.
 //!
@@ -32,7 +32,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use super::reduce::{chunk_sum, in_chunk_order, CHUNK};
+use super::reduce::{chunk_sum, in_chunk_order, GANG_CHUNK};
 
 /// An entry of a vector the members of a gang share.
 #[repr(transparent)]
@@ -249,10 +249,10 @@ impl Crew<'_> {
         self.sum2(n, |i| [f(i), 0.0])[0]
     }
 
-    /// Two sums in one pass: each member sums its chunks of [`CHUNK`] entries in index order,
+    /// Two sums in one pass: each member sums its chunks of [`GANG_CHUNK`] entries in index order,
     /// and after a barrier every member adds all chunk sums in chunk order.
     pub fn sum2(&self, n: usize, f: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
-        let chunks = n.div_ceil(CHUNK);
+        let chunks = n.div_ceil(GANG_CHUNK);
         let buffer = self.flip.get();
         self.flip.set(1 - buffer);
         let half = self.partials.len() / 2;
@@ -263,7 +263,7 @@ impl Crew<'_> {
             // the closure, not `&f`: passed by reference the summand was not inlined (5 % more
             // instructions in a pressure solve, counted by cachegrind)
             #[allow(clippy::redundant_closure)]
-            let sums = chunk_sum(k, n, |i| f(i));
+            let sums = chunk_sum(k, GANG_CHUNK, n, |i| f(i));
             // chunk k is this member's; the others read it after the barrier, and it is
             // rewritten only two sums later, after the next sum's barrier, which every member
             // reaches after reading it
@@ -284,7 +284,7 @@ impl Crew<'_> {
 
 /// The chunk sums of a gang whose sums run over up to `rows` entries.
 fn sized(rows: usize, partials: &mut Vec<PartialSum>) -> &[PartialSum] {
-    partials.resize_with(2 * rows.div_ceil(CHUNK).max(1), PartialSum::default);
+    partials.resize_with(2 * rows.div_ceil(GANG_CHUNK).max(1), PartialSum::default);
     partials
 }
 
@@ -427,9 +427,10 @@ mod tests {
         };
         assert_eq!(one, gang);
         assert_eq!(out_one, out_gang);
-        // the order of the rayon reduction (`reduce.rs`), written out: chunks in index order,
+        // the order of a fixed-chunk sum (`reduce.rs`), written out: chunks in index order,
         // their sums in chunk order
-        let chunked: f64 = (0..n).step_by(CHUNK).map(|start| (start..(start + CHUNK).min(n)).fold(0.0, |s, i| s + v[i] * 199.0)).fold(0.0, |s, c| s + c);
+        let chunked: f64 =
+            (0..n).step_by(GANG_CHUNK).map(|start| (start..(start + GANG_CHUNK).min(n)).fold(0.0, |s, i| s + v[i] * 199.0)).fold(0.0, |s, c| s + c);
         assert_eq!(*one.last().unwrap(), chunked.to_bits(), "the bits of a fixed-chunk sum");
     }
 

@@ -7,7 +7,7 @@
 //! the Poisson equation at least as well as the lexicographic sweep; there is no sequential
 //! dependency chain from row to row, and no division (the inverse diagonal is stored).
 
-use super::csr::{Csr, Real};
+use super::csr::{fold_row, Csr, Real};
 use super::gang::{Crew, Slot};
 use super::par_update;
 
@@ -119,10 +119,7 @@ unsafe fn colour_passes<T: Real, V: Real>(
             // SAFETY: rows of this colour are written by their block's member only and do not
             // read each other; rows of the other colours are not written during this pass
             let (lo, hi) = (a.row_start[r] as usize, a.row_start[r + 1] as usize);
-            let mut s = unsafe { b[r].get() }.get();
-            for (&c, &v) in a.col[lo..hi].iter().zip(&a.val[lo..hi]) {
-                s -= v.get() * unsafe { x[c as usize].get() }.get();
-            }
+            let s = fold_row(&a.col[lo..hi], &a.val[lo..hi], unsafe { b[r].get() }.get(), |c| unsafe { x[c].get() }.get(), |s, t| s - t);
             unsafe { x[r].set(V::put(s * inv_diag[r].get())) };
         });
     }
