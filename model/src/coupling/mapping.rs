@@ -226,7 +226,12 @@ impl ParticleMeshMap {
     /// 3γ d_max (the diffusion's deposit kernel is 13 times narrower than its support
     /// 3γ d_max: binned at that, a query would test ~40 times the cells it finds).
     fn kernel_search(&self, mesh: &Mesh, particles: &[Particle], gamma: f64) -> CellSearch {
-        CellSearch::new(mesh, 3.0 * gamma * particles.iter().map(|p| p.diameter).fold(0.0, f64::max))
+        CellSearch::new(mesh, self.kernel_radius(particles, gamma))
+    }
+
+    /// The binning radius of [`Self::kernel_search`].
+    fn kernel_radius(&self, particles: &[Particle], gamma: f64) -> f64 {
+        3.0 * gamma * particles.iter().map(|p| p.diameter).fold(0.0, f64::max)
     }
 
     /// Whether the ∂α/∂t mask applies (an interface, particles and `interface_mask` on).
@@ -250,7 +255,12 @@ impl ParticleMeshMap {
     ) -> &'c [Stencil] {
         let reuse = self.solvers.reuse_stencils;
         if !(reuse && cache.holds(mesh, particles, gamma, need)) {
-            let search = search.get_or_insert_with(|| self.kernel_search(mesh, particles, gamma));
+            // a solver that reuses stencils also keeps the cell search while the mesh stands still
+            let mut kept = (reuse && search.is_none()).then(|| cache.take_search(mesh, self.kernel_radius(particles, gamma)));
+            let search = match &mut kept {
+                Some(kept) => &kept.search,
+                None => search.get_or_insert_with(|| self.kernel_search(mesh, particles, gamma)),
+            };
             let walls = kernel::wall_faces(mesh);
             let geo = KernelGeometry {
                 mesh,
@@ -260,6 +270,9 @@ impl ParticleMeshMap {
                 empty_normal: super::cell_quadrature::empty_normal(mesh),
             };
             (self.solvers.stencils)(&geo, particles, gamma, build, &mut cache.stencils, &mut cache.memory);
+            if let Some(kept) = kept {
+                cache.keep_search(kept);
+            }
             if reuse {
                 cache.record(mesh, particles, gamma, build);
             } else {
