@@ -420,14 +420,14 @@ impl ParticleMeshMap {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::coupling::settings::Feedback;
     use crate::mesh::cartesian::BoxSpec;
     use crate::mesh::cylindrical::RotorStatorSpec;
     use crate::particles::Particle;
 
-    fn particle(x: Vec3, diameter: f64) -> Particle {
+    pub(in crate::coupling) fn particle(x: Vec3, diameter: f64) -> Particle {
         Particle {
             id: 0,
             material: 0,
@@ -442,7 +442,7 @@ mod tests {
         }
     }
 
-    fn map(method: MappingMethod, mask: bool) -> ParticleMeshMap {
+    pub(in crate::coupling) fn map(method: MappingMethod, mask: bool) -> ParticleMeshMap {
         let section = CouplingSection {
             method,
             distance_factor: 1.0,
@@ -454,7 +454,7 @@ mod tests {
         ParticleMeshMap::new(&section)
     }
 
-    fn load(particles: &[Particle]) -> ParticleLoad {
+    pub(in crate::coupling) fn load(particles: &[Particle]) -> ParticleLoad {
         let n = particles.len();
         let mut load = ParticleLoad::zeros(n);
         for (i, p) in particles.iter().enumerate() {

@@ -52,9 +52,13 @@ pub struct StencilCache {
     weights: Option<Weights>,
     /// The mesh's cell centres at the build.
     centres: Vec<Vec3>,
-    /// The cell search of the last build.
-    search: Option<KeptSearch>,
+    /// The cell searches of the last builds, one per radius (at most [`KEPT_SEARCHES`]: the
+    /// diffusion method's deposit and sample bin at two).
+    searches: Vec<KeptSearch>,
 }
+
+/// How many cell searches of different radii a cache keeps.
+const KEPT_SEARCHES: usize = 2;
 
 /// A cell search and what it was binned from: the radius and the bits of the mesh's points and
 /// cell centres (its buckets, reaches and spans are functions of these and of the mesh's
@@ -76,7 +80,7 @@ impl Clone for StencilCache {
             gamma: self.gamma,
             weights: self.weights,
             centres: self.centres.clone(),
-            search: None,
+            searches: Vec::new(),
         }
     }
 }
@@ -120,21 +124,26 @@ impl StencilCache {
         self.centres.clone_from(&mesh.cell_centres);
     }
 
-    /// The cell search of radius `radius` on `mesh` as it stands: the kept one if it was binned
+    /// The cell search of radius `radius` on `mesh` as it stands: a kept one if it was binned
     /// from the same radius, points and cell centres (bit for bit), else a new one; to be given
     /// back with [`Self::keep_search`].
     pub(super) fn take_search(&mut self, mesh: &Mesh, radius: f64) -> KeptSearch {
-        match self.search.take() {
-            Some(kept) if kept.radius == radius.to_bits() && same_bits(&kept.points, &mesh.points) && same_bits(&kept.centres, &mesh.cell_centres) => kept,
-            _ => {
+        let fits = |k: &KeptSearch| k.radius == radius.to_bits() && same_bits(&k.points, &mesh.points) && same_bits(&k.centres, &mesh.cell_centres);
+        match self.searches.iter().position(fits) {
+            Some(i) => self.searches.remove(i),
+            None => {
                 KeptSearch { radius: radius.to_bits(), points: mesh.points.clone(), centres: mesh.cell_centres.clone(), search: CellSearch::new(mesh, radius) }
             }
         }
     }
 
-    /// Keeps a search from [`Self::take_search`] for the next mapping.
+    /// Keeps a search from [`Self::take_search`] for the next mappings, in place of the one kept
+    /// longest when there are [`KEPT_SEARCHES`] already.
     pub(super) fn keep_search(&mut self, kept: KeptSearch) {
-        self.search = Some(kept);
+        if self.searches.len() == KEPT_SEARCHES {
+            self.searches.remove(0);
+        }
+        self.searches.push(kept);
     }
 
     /// Forgets the stencils (keeps their storage): the next mapping builds them again.
@@ -146,39 +155,16 @@ impl StencilCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coupling::{CellLoad, CouplingSection, Feedback, MappingMethod, MappingSolvers, ParticleMeshMap};
+    use crate::coupling::mapping::tests::{load, map, particle};
+    use crate::coupling::{CellLoad, MappingMethod, MappingSolvers};
     use crate::mesh::cartesian::BoxSpec;
-    use crate::step::ParticleLoad;
-
-    fn particle(x: Vec3) -> Particle {
-        Particle {
-            id: 0,
-            material: 0,
-            diameter: 0.01,
-            density: 2650.0,
-            position: x,
-            velocity: Vec3::zeros(),
-            spin: Vec3::zeros(),
-            contact_force: Vec3::zeros(),
-            contact_torque: Vec3::zeros(),
-            contacts: 0,
-        }
-    }
 
     /// A solver that reuses stencils bins the cell centres once while the mesh stands still
     /// (the kept search's storage is the same from mapping to mapping) and again when it moves;
     /// its deposits have the bits of deposits that bin afresh every time.
     #[test]
     fn the_cell_search_is_kept_while_the_mesh_stands_still_and_changes_no_bit() {
-        let section = CouplingSection {
-            method: MappingMethod::Kernel,
-            distance_factor: 1.0,
-            feedback: Feedback::default(),
-            interface_mask: false,
-            drag: Default::default(),
-            min_fluid_fraction: 0.05,
-        };
-        let fresh = ParticleMeshMap::new(&section);
+        let fresh = map(MappingMethod::Kernel, false);
         let mut keeping = fresh.clone();
         keeping.solvers = MappingSolvers { reuse_stencils: true, ..MappingSolvers::IN_ORDER };
         let mut mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.02), [20, 30, 1])).unwrap();
@@ -193,13 +179,8 @@ mod tests {
                 mesh.update_all_geometry();
             }
             let particles: Vec<Particle> =
-                (0..3).map(|i| particle(Vec3::new(0.05 + 0.04 * i as f64 + 0.003 * step as f64, 0.1 + 0.01 * step as f64, 0.01))).collect();
-            let mut load = ParticleLoad::zeros(particles.len());
-            for (i, p) in particles.iter().enumerate() {
-                load.volume[i] = p.volume();
-                load.implicit_drag[i] = 0.01 * (i + 1) as f64;
-                load.explicit_force[i] = [0.3, -((i + 1) as f64), 0.2];
-            }
+                (0..3).map(|i| particle(Vec3::new(0.05 + 0.04 * i as f64 + 0.003 * step as f64, 0.1 + 0.01 * step as f64, 0.01), 0.01)).collect();
+            let load = load(&particles);
             let (mut kept, mut afresh) = (CellLoad::default(), CellLoad::default());
             keeping.deposit_with(&mut cache, &mesh, &particles, &load, &mut kept);
             fresh.deposit(&mesh, &particles, &load, &mut afresh);
@@ -209,7 +190,7 @@ mod tests {
                 b
             };
             assert_eq!(bits(&kept), bits(&afresh), "step {step}: the bits of a fresh binning");
-            let search = cache.search.as_ref().expect("a kept search");
+            let search = cache.searches.last().expect("a kept search");
             assert!(same_bits(&search.points, &mesh.points), "step {step}: binned from the mesh as it stands");
             let storage = search.points.as_ptr();
             match step {
@@ -218,5 +199,26 @@ mod tests {
                 _ => assert_ne!(Some(storage), kept_storage, "the mesh moved: binned again"),
             }
         }
+    }
+
+    /// Searches of two radii (the diffusion method's deposit and sample) are both kept; a third
+    /// radius replaces the one kept longest.
+    #[test]
+    fn two_radii_are_kept_side_by_side() {
+        let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.02), [20, 30, 1])).unwrap();
+        let mut cache = StencilCache::default();
+        let storage = |cache: &mut StencilCache, radius: f64| {
+            let kept = cache.take_search(&mesh, radius);
+            let at = kept.points.as_ptr();
+            cache.keep_search(kept);
+            at
+        };
+        let (narrow, wide) = (storage(&mut cache, 0.007), storage(&mut cache, 0.09));
+        assert_eq!(storage(&mut cache, 0.007), narrow);
+        assert_eq!(storage(&mut cache, 0.09), wide);
+        storage(&mut cache, 0.03);
+        assert_eq!(storage(&mut cache, 0.09), wide, "kept: used last but one");
+        let radii: Vec<f64> = cache.searches.iter().map(|k| f64::from_bits(k.radius)).collect();
+        assert_eq!(radii, [0.03, 0.09], "the narrow one replaced by the third radius");
     }
 }
