@@ -40,6 +40,43 @@ struct Scratch {
     psi: Vec<f64>,
 }
 
+/// Cells whose φ waits to be evaluated, [`PhiBatch::LEN`] at most, in the order they were
+/// visited: evaluated together in SIMD lanes, then added to their cells in that order.
+struct PhiBatch {
+    cells: [usize; PhiBatch::LEN],
+    r2: [f64; PhiBatch::LEN],
+    len: usize,
+}
+
+impl PhiBatch {
+    const LEN: usize = 64;
+
+    fn new() -> Self {
+        PhiBatch { cells: [0; Self::LEN], r2: [0.0; Self::LEN], len: 0 }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, c: usize, r2: f64, shapes: KernelShapes, phi: &mut [f64]) {
+        self.cells[self.len] = c;
+        self.r2[self.len] = r2;
+        self.len += 1;
+        if self.len == Self::LEN {
+            self.flush(shapes, phi);
+        }
+    }
+
+    /// Adds the waiting cells' φ to `phi`, in their order.
+    fn flush(&mut self, shapes: KernelShapes, phi: &mut [f64]) {
+        let mut values = [0.0; Self::LEN];
+        let len = self.len;
+        phi_in_lanes(shapes, &self.r2[..len], &mut values[..len]);
+        for (&c, &f) in self.cells[..len].iter().zip(&values[..len]) {
+            phi[c] += f;
+        }
+        self.len = 0;
+    }
+}
+
 thread_local! {
     static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
@@ -137,7 +174,8 @@ fn build_one_point(geo: &KernelGeometry, x: &Vec3, ghost: Option<&Vec3>, sigma: 
     let mesh = geo.mesh;
     let support = 3.0 * sigma;
     let (want_phi, want_psi) = (weights != Weights::Sample, weights != Weights::Deposit);
-    let (support2, inverse_2s2) = (support * support, 1.0 / (2.0 * sigma * sigma));
+    let shapes = KernelShapes::new(sigma);
+    let support2 = shapes.support2;
     let n = mesh.n_cells();
     if scratch.marked.len() < n {
         scratch.marked.resize(n, false);
@@ -149,6 +187,9 @@ fn build_one_point(geo: &KernelGeometry, x: &Vec3, ghost: Option<&Vec3>, sigma: 
     let Scratch { cells, marked, phi, psi } = scratch;
     cells.clear();
     let (mut lo, mut hi) = (usize::MAX, 0);
+    // the φ of many cells at once (in SIMD lanes), added in the order the cells were visited:
+    // each cell's sum is still the particle's term, then the ghost's
+    let mut batch = PhiBatch::new();
     for point in std::iter::once(x).chain(ghost) {
         geo.search.within_each(mesh, point, support, |c, r2| {
             if !marked[c] {
@@ -158,38 +199,145 @@ fn build_one_point(geo: &KernelGeometry, x: &Vec3, ghost: Option<&Vec3>, sigma: 
                 hi = hi.max(c);
             }
             if want_phi {
-                phi[c] += (-r2 * inverse_2s2).exp();
+                batch.push(c, r2, shapes, phi);
             }
             if want_psi {
                 psi[c] += if r2 < support2 { r2 } else { 0.0 };
             }
         });
     }
+    batch.flush(shapes, phi);
     if !cells.is_empty() && hi - lo > 8 * cells.len() + 64 {
         // scattered numbering: the range would cost more to read than a sort
         cells.sort_unstable();
     } else if !cells.is_empty() {
-        cells.clear();
-        cells.extend((lo..=hi).filter(|&c| marked[c]));
+        marked_in_order(marked, lo..=hi, cells);
     }
-    let zone = mesh.cell_zone[host];
-    out.cells.clear();
-    out.deposit.clear();
-    out.sample.clear();
-    let mut sums = (0.0, 0.0);
+    let zone = geo.truncate_at_interface.then(|| mesh.cell_zone[host]);
     // every cell found is within 3σ of the particle or the ghost, so its φ is at least e^{−4.5}:
     // none has both weights zero, the reference's reason to drop a cell
-    for &c in cells.iter() {
-        let (f, s) = (phi[c] * mesh.cell_volumes[c], psi[c] * mesh.cell_volumes[c]);
+    let sums = match (want_phi, want_psi) {
+        (true, true) => gather::<true, true>(mesh, zone, cells, marked, phi, psi, out),
+        (true, false) => gather::<true, false>(mesh, zone, cells, marked, phi, psi, out),
+        _ => gather::<false, true>(mesh, zone, cells, marked, phi, psi, out),
+    };
+    normalise_or_host(out, (want_phi, want_psi), sums.0, sums.1, host);
+}
+
+/// φ at each squared distance of `r2` into `out` ([`KernelShapes::phi`], the same bits), on the
+/// widest SIMD this CPU has.
+fn phi_in_lanes(shapes: KernelShapes, r2: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512 F (checked just above)
+            return unsafe { phi_avx512(shapes, r2, out) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above)
+            return unsafe { phi_avx2(shapes, r2, out) };
+        }
+    }
+    phi_each(shapes, r2, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn phi_avx512(shapes: KernelShapes, r2: &[f64], out: &mut [f64]) {
+    phi_each(shapes, r2, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn phi_avx2(shapes: KernelShapes, r2: &[f64], out: &mut [f64]) {
+    phi_each(shapes, r2, out)
+}
+
+#[inline(always)]
+fn phi_each(shapes: KernelShapes, r2: &[f64], out: &mut [f64]) {
+    for (f, &r2) in out.iter_mut().zip(r2) {
+        *f = shapes.phi(r2);
+    }
+}
+
+/// The cells of `range` marked in `marked`, in increasing order, into `cells` (without
+/// branching on the marks: every cell is written and the count moves on only past a marked one).
+fn marked_in_order(marked: &[bool], range: std::ops::RangeInclusive<usize>, cells: &mut Vec<usize>) {
+    let lo = *range.start();
+    let marks = &marked[range];
+    cells.clear();
+    cells.reserve(marks.len());
+    let spare = cells.spare_capacity_mut();
+    let mut k = 0;
+    for (c, &m) in marks.iter().enumerate() {
+        // k ≤ c < marks.len() ≤ the capacity
+        spare[k].write(lo + c);
+        k += usize::from(m);
+    }
+    // SAFETY: entries 0..k were written above
+    unsafe { cells.set_len(k) };
+}
+
+/// The one-point stencil's cells `cells` (in order) into `out` with their φ and ψ summed so far
+/// times the cell volume (the wanted ones, `PHI` and `PSI`), skipping the cells outside `zone`
+/// when it is given, and the running sums of the weights in the reference's order; clears the
+/// cells' entries of `marked`, `phi` and `psi` for the next particle. Writes into reserved
+/// storage rather than pushing: a push stores each vector's length back to memory, which took
+/// most of this loop's time.
+fn gather<const PHI: bool, const PSI: bool>(
+    mesh: &spillage_model::mesh::Mesh,
+    zone: Option<usize>,
+    cells: &[usize],
+    marked: &mut [bool],
+    phi: &mut [f64],
+    psi: &mut [f64],
+    out: &mut Stencil,
+) -> (f64, f64) {
+    for v in [&mut out.deposit, &mut out.sample] {
+        v.clear();
+    }
+    out.cells.clear();
+    out.cells.reserve(cells.len());
+    if PHI {
+        out.deposit.reserve(cells.len());
+    }
+    if PSI {
+        out.sample.reserve(cells.len());
+    }
+    let (to_cells, to_phi, to_psi) = (out.cells.spare_capacity_mut(), out.deposit.spare_capacity_mut(), out.sample.spare_capacity_mut());
+    let (mut sums, mut k) = ((0.0, 0.0), 0);
+    for &c in cells {
+        let volume = mesh.cell_volumes[c];
+        let (f, s) = (phi[c] * volume, psi[c] * volume);
         marked[c] = false;
         phi[c] = 0.0;
         psi[c] = 0.0;
-        if geo.truncate_at_interface && mesh.cell_zone[c] != zone {
+        if zone.is_some_and(|z| mesh.cell_zone[c] != z) {
             continue;
         }
-        push_cell(out, (want_phi, want_psi), c, (f, s), &mut sums);
+        to_cells[k].write(c);
+        if PHI {
+            to_phi[k].write(f);
+            sums.0 += f;
+        }
+        if PSI {
+            to_psi[k].write(s);
+            sums.1 += s;
+        }
+        k += 1;
     }
-    normalise_or_host(out, (want_phi, want_psi), sums.0, sums.1, host);
+    // SAFETY: the first k entries of each vector written are initialised just above (the
+    // capacity was reserved for every cell)
+    unsafe {
+        out.cells.set_len(k);
+        if PHI {
+            out.deposit.set_len(k);
+        }
+        if PSI {
+            out.sample.set_len(k);
+        }
+    }
+    sums
 }
 
 /// Adds cell `c` with its (φ, ψ) integrals to the stencil, the wanted weights only, and to
@@ -257,10 +405,10 @@ fn build(geo: &KernelGeometry, rules: &Rules, x: &Vec3, diameter: f64, gamma: f6
     // the reference's shapes, term for term; without φ wanted, φ becomes the indicator of
     // r ≤ 3σ (φ itself is at least e^{−4.5} there), which is all the skip below reads of it
     let exact_shapes = KernelShapes::new(sigma);
-    let KernelShapes { support2, inverse_2s2 } = exact_shapes;
+    let KernelShapes { support2, .. } = exact_shapes;
     let shapes = |r2: f64| {
         if r2 <= support2 {
-            (if want_phi { (-r2 * inverse_2s2).exp() } else { 1.0 }, if r2 < support2 { r2 } else { 0.0 })
+            (if want_phi { exact_shapes.phi(r2) } else { 1.0 }, if r2 < support2 { r2 } else { 0.0 })
         } else {
             (0.0, 0.0)
         }

@@ -163,10 +163,19 @@ impl KernelShapes {
     #[inline]
     pub fn at(&self, r2: f64) -> (f64, f64) {
         if r2 <= self.support2 {
-            ((-r2 * self.inverse_2s2).exp(), if r2 < self.support2 { r2 } else { 0.0 })
+            (self.phi(r2), if r2 < self.support2 { r2 } else { 0.0 })
         } else {
             (0.0, 0.0)
         }
+    }
+
+    /// φ = e^{−r²/2σ²} at squared distance `r2` (within the support or not). The exponential is
+    /// the model's own ([`crate::closure::elementary::exp`], within one unit in the last place
+    /// of the C library's), whose bits do not depend on the machine or on SIMD lanes: a solver
+    /// may evaluate many cells' φ at once and still get this function's bits.
+    #[inline(always)]
+    pub fn phi(&self, r2: f64) -> f64 {
+        crate::closure::elementary::exp(-r2 * self.inverse_2s2)
     }
 
     /// (φ, ψ) at `point` of a particle at `x`, plus its mirror `ghost` beyond a wall.

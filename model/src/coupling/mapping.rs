@@ -27,6 +27,7 @@
 //! centre) exists to leave out. Measured on P1 (d_p/Δx = 1, γ = 1): the centre value settled
 //! 7.6 % slow.
 
+use super::accumulate::{accumulate_in_order, Accumulator, CellSums};
 use super::cell_search::CellSearch;
 use super::diffusion::Diffusion;
 use super::kernel::{self, KernelGeometry, Stencil};
@@ -101,6 +102,8 @@ pub struct MappingSolvers {
     pub stencils: StencilBuilder,
     pub smoother: Smoother,
     pub sampler: Sampler,
+    /// How the deposit weights sum the particles' loads into the cells.
+    pub accumulator: Accumulator,
     /// Whether a sample may take the stencils of the deposit before it when they are the same
     /// ([`StencilCache`]: same particles, σ and mesh, so the same bits). The reference builds
     /// every stencil it uses.
@@ -109,8 +112,13 @@ pub struct MappingSolvers {
 
 impl MappingSolvers {
     /// One particle, one field after the other.
-    pub const IN_ORDER: MappingSolvers =
-        MappingSolvers { stencils: stencils_in_order, smoother: smooth_in_order, sampler: sample_in_order, reuse_stencils: false };
+    pub const IN_ORDER: MappingSolvers = MappingSolvers {
+        stencils: stencils_in_order,
+        smoother: smooth_in_order,
+        sampler: sample_in_order,
+        accumulator: accumulate_in_order,
+        reuse_stencils: false,
+    };
 }
 
 /// Smooths each of `fields` with one diffusion operator (one backward-Euler step,
@@ -316,34 +324,25 @@ impl ParticleMeshMap {
         if self.method != MappingMethod::Kernel {
             search = None;
         }
-        let mut volume = vec![0.0; n];
-        let mut drag = vec![0.0; n];
-        let mut force = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
-        let mut add = |cell: usize, w: f64, i: usize| {
-            volume[cell] += w * load.volume[i];
-            drag[cell] += w * load.implicit_drag[i];
-            for (k, f) in force.iter_mut().enumerate() {
-                f[cell] += w * load.explicit_force[i][k];
-            }
-        };
+        let mut sums = CellSums::zeros(n);
         match self.method {
             MappingMethod::Kernel | MappingMethod::Diffusion => {
                 let kernel = self.method == MappingMethod::Kernel;
                 let gamma = if kernel { self.distance_factor } else { SPHERE_WIDTH_FACTOR };
                 // the kernel's next sample is at these positions with this σ: its weights too
                 let build = if kernel && self.solvers.reuse_stencils { Weights::Both } else { Weights::Deposit };
-                for (i, s) in self.stencils(mesh, particles, &mut search, gamma, (Weights::Deposit, build), cache).iter().enumerate() {
-                    for (&c, &w) in s.cells.iter().zip(&s.deposit) {
-                        add(c, w, i);
-                    }
-                }
+                let stencils = self.stencils(mesh, particles, &mut search, gamma, (Weights::Deposit, build), cache);
+                (self.solvers.accumulator)(stencils, load, &mut sums);
             }
             MappingMethod::Centroid => {
+                let CellSums { volume, drag, force: [fx, fy, fz] } = &mut sums;
                 for (i, p) in particles.iter().enumerate() {
-                    add(host_cell(mesh, &p.position), 1.0, i);
+                    let c = host_cell(mesh, &p.position);
+                    CellSums::add(&mut volume[c], &mut drag[c], [&mut fx[c], &mut fy[c], &mut fz[c]], 1.0, load, i);
                 }
             }
         }
+        let CellSums { mut volume, mut drag, mut force } = sums;
         // per-volume fields for α_p and the diffusion; C and F stay totals per cell
         volume.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {

@@ -5,12 +5,14 @@
 //! - [`settings`]: `[coupling]` (method, distance factor γ, feedback, interface mask);
 //! - [`kernel`]: the Gaussian φ and quadratic ψ kernels, ghosts and renormalisation (§6.3, §6.5, §6.7);
 //! - [`diffusion`]: the diffusion method's smoothing step (§6.4);
+//! - [`accumulate`]: the particles' loads summed into the cells through the deposit weights;
 //! - [`mapping`]: [`ParticleMeshMap`], the selected method both ways, and the [`CellLoad`] it makes;
 //! - [`cell_quadrature`]: a kernel integrated over a cell wider than the kernel;
 //! - [`cell_search`]: cells within a radius of a point;
 //! - [`stencil_cache`]: the stencils of a deposit kept for the next sample;
 //! - [`mask`]: the ∂α_c/∂t the pressure equation takes in the interface mask (T4.54).
 
+pub mod accumulate;
 pub mod bucket_grid;
 pub mod cell_quadrature;
 pub mod cell_search;
