@@ -84,26 +84,54 @@ fn ratio() {
     let _ = std::fs::write(dir.join("coupled_step.json"), json);
 }
 
-/// Seconds per step of `case`: the whole reference solver, and the whole fast solver (fluid,
-/// DEM, parallel stencils and smoothing) on 2 threads.
-fn fine_times(case: &Case) -> (f64, f64) {
+/// Rounds of [`fine_times`]: the machine's speed drifts by a third from one minute to the next
+/// (README, "The fast particle path"), so one long stretch of each solver compares two speeds
+/// of the machine; alternating short stretches over the same steps and taking the median of
+/// the rounds' ratios compares the solvers.
+const ROUNDS: usize = 5;
+/// Steps per stretch: the same steps of the run for both solvers (the later steps take an
+/// outer iteration more than the first ones).
+const STRETCH: usize = 3;
+
+/// Seconds per step of `case`, (reference, fast) per round: the whole reference solver, and the
+/// whole fast solver (fluid, DEM, parallel stencils and smoothing) on 2 threads, taking turns
+/// over the same steps, after two steps each to warm up.
+fn fine_times(case: &Case) -> Vec<(f64, f64)> {
     let mesh = || spillage::verify::fluid::build_mesh(case).expect("mesh");
-    let mut state = State::default();
-    let fluid = ReferenceFluid::new(case, mesh(), &mut state).expect("reference fluid");
-    let dem = ReferenceDem::new(case, &mut state).expect("reference DEM");
-    let r = seconds_per_step(&mut Coupled::new(case, state, Some(fluid), Some(dem)).expect("run"), 3);
+    let time = |run: &mut dyn Solver, steps: usize| {
+        let t = Instant::now();
+        for _ in 0..steps {
+            run.step().expect("step");
+        }
+        t.elapsed().as_secs_f64() / steps as f64
+    };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
-    // the pool's other worker kept awake, as `spillage run` keeps it
-    let f = pool.install(|| {
-        keep_awake(|| {
-            let mut state = State::default();
-            let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
-            let dem = FastDem::new(case, &mut state).expect("fast DEM");
-            let mut run = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
-            seconds_per_step(&mut run, 6)
-        })
-    });
-    (r, f)
+    // everything on the pool (the reference runs on one of its threads, as it runs alone); the
+    // pool's other worker kept awake for the fast solver, as `spillage run` keeps it
+    pool.install(|| {
+        let mut state = State::default();
+        let fluid = ReferenceFluid::new(case, mesh(), &mut state).expect("reference fluid");
+        let dem = ReferenceDem::new(case, &mut state).expect("reference DEM");
+        let mut reference = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run");
+        let mut state = State::default();
+        let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
+        let dem = FastDem::new(case, &mut state).expect("fast DEM");
+        let mut fast = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
+        time(&mut reference, 2);
+        keep_awake(|| time(&mut fast, 2));
+        (0..ROUNDS).map(|_| (time(&mut reference, STRETCH), keep_awake(|| time(&mut fast, STRETCH)))).collect()
+    })
+}
+
+/// The median of `values`.
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
 }
 
 /// The mapping alone on `case`'s initial state (one sample and one deposit, as a coupled step
@@ -162,15 +190,19 @@ fn fine_ratio() {
     let mut json = Vec::new();
     for (label, case) in [("kernel γ = 1", &case), ("diffusion γ = 3", &diffusion)] {
         let (mr, mf) = fine_mapping_times(case);
-        let (r, f) = fine_times(case);
+        let rounds = fine_times(case);
+        let ratio = median(rounds.iter().map(|(r, f)| r / f).collect());
+        let (r, f) = (median(rounds.iter().map(|t| t.0).collect()), median(rounds.iter().map(|t| t.1).collect()));
+        let each: Vec<String> = rounds.iter().map(|(r, f)| format!("{:.1}", r / f)).collect();
         println!(
-            "P3 fine (9 840 cells, 1 683 particles), {label}: reference {r:.3} s per step, fast on 2 threads {f:.4} s: ratio {:.1}; the mapping alone (sample + deposit): reference {mr:.4} s, fast {mf:.4} s: ratio {:.1}",
-            r / f,
+            "P3 fine (9 840 cells, 1 683 particles), {label}: reference {r:.3} s per step, fast on 2 threads {f:.4} s (medians of {ROUNDS} rounds of {STRETCH} steps each, taking turns): ratio {ratio:.1} (median; the rounds {}); the mapping alone (sample + deposit): reference {mr:.4} s, fast {mf:.4} s: ratio {:.1}",
+            each.join(", "),
             mr / mf
         );
+        let pairs: Vec<String> = rounds.iter().map(|(r, f)| format!("[{r}, {f}]")).collect();
         json.push(format!(
-            "{{\"mapping\": \"{label}\", \"reference_seconds_per_step\": {r}, \"fast_2_threads_seconds_per_step\": {f}, \"ratio\": {}, \"mapping_reference_seconds\": {mr}, \"mapping_fast_2_threads_seconds\": {mf}}}",
-            r / f
+            "{{\"mapping\": \"{label}\", \"reference_seconds_per_step\": {r}, \"fast_2_threads_seconds_per_step\": {f}, \"ratio\": {ratio}, \"rounds_reference_fast\": [{}], \"mapping_reference_seconds\": {mr}, \"mapping_fast_2_threads_seconds\": {mf}}}",
+            pairs.join(", ")
         ));
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
