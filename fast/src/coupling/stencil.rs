@@ -474,6 +474,40 @@ mod tests {
         }
     }
 
+    /// φ in lanes, on every SIMD path this CPU has, equals the model's scalar φ bit for bit:
+    /// at the centre, inside, at and beyond the support, far out (underflow to 0), over runs of
+    /// lengths that leave partial vectors.
+    #[test]
+    fn phi_in_lanes_has_the_scalar_bits_on_every_path() {
+        let shapes = KernelShapes::new(0.01);
+        let support2 = shapes.support2;
+        let mut r2: Vec<f64> = vec![0.0, 1e-300, support2, support2 * (1.0 + f64::EPSILON), 1e3 * support2, 1e6];
+        r2.extend((0..200).map(|k| support2 * (k as f64 / 150.0).powi(2)));
+        type Path = fn(KernelShapes, &[f64], &mut [f64]);
+        let mut paths: Vec<(&str, Path)> = vec![("portable", phi_each), ("chosen", phi_in_lanes)];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: only called on a CPU with AVX2 (checked just above)
+                paths.push(("avx2", |s, r, o| unsafe { phi_avx2(s, r, o) }));
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: only called on a CPU with AVX-512 F (checked just above)
+                paths.push(("avx512", |s, r, o| unsafe { phi_avx512(s, r, o) }));
+            }
+        }
+        for (name, path) in paths {
+            for len in [1, 3, 7, 8, 9, 17, r2.len()] {
+                let mut out = vec![f64::NAN; len];
+                path(shapes, &r2[..len], &mut out);
+                for (k, (&f, &r)) in out.iter().zip(&r2).enumerate() {
+                    assert_eq!(f.to_bits(), shapes.phi(r).to_bits(), "{name}, {len} values, entry {k} (r² = {r:e})");
+                }
+            }
+        }
+        assert_eq!(shapes.phi(0.0), 1.0);
+    }
+
     /// Against the reference's stencil, particle by particle: the same cells and, for each
     /// weight asked for, the same bits; the other weight left empty. Kernels wider than the
     /// cells (one point per cell), narrower (the cell quadrature: made once per build in the
