@@ -85,7 +85,7 @@ fn ratio() {
 }
 
 /// Rounds of [`fine_times`]: the machine's speed drifts by a third from one minute to the next
-/// (README, "The fast particle path"), so one long stretch of each solver compares two speeds
+/// (`docs/performance.md`), so one long stretch of each solver compares two speeds
 /// of the machine; alternating short stretches over the same steps and taking the median of
 /// the rounds' ratios compares the solvers.
 const ROUNDS: usize = 5;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Instructions per particle-step of the fast DEM, counted by valgrind's cachegrind: a measure
 # that does not move with the machine's load. Wall-clock comparisons on a shared 2-core VM
-# scatter by 10–25 % between identical runs (README, "The fast particle path"), which hides
+# scatter by 10–25 % between identical runs (docs/performance.md), which hides
 # any change of a few per cent; the instruction count of the same run is the same to < 0.01 %
 # every time. It is a proxy: it does not see cache misses, and says nothing about threads.
 # Valgrind does not run AVX-512, so under it the pair loop takes the AVX kernel even where the

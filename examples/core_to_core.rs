@@ -1,7 +1,7 @@
 //! How long two threads take to hand a cache line to each other: the price of every barrier of
 //! a gang (`fast/src/linear/gang.rs`) and of every row a gang's members share at their blocks'
 //! edges. On the project's 2-core VM it is 26–45 ns in some periods and 176–260 ns in others
-//! (2026-11-28); a solve's speed on two threads follows it (README, "A gang or one thread, by the
+//! (2026-11-28); a solve's speed on two threads follows it (docs/performance.md, "A gang or one thread, by the
 //! clock"), so a benchmark run is best read together with it.
 //!
 //! `cargo run --release --example core_to_core -- [rounds]`: prints the median of `rounds`

@@ -111,9 +111,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     summary.set_detail("case_file", case.path.display().to_string());
     summary.set_detail("threads", threads as u64);
     if case.particles.is_some() && opts.solver == SolverChoice::Fast {
-        // the particle-steps per second of a run depend on it (README, "The fast particle path")
+        // the particle-steps per second of a run depend on it (docs/performance.md)
         summary.set_detail("dem_pair_kernel", spillage_fast::dem::pair_forces::PairKernel::detect().describe());
-        // the particles' drag laws in lanes (README, "The drag law in lanes"), where they take them
+        // the particles' drag laws in lanes (docs/performance.md, "The drag law in lanes"), where they take them
         use spillage_fast::dem::drag_lanes::{takes_lanes, LaneWidth};
         if let Some(section) = &case.particles {
             let in_fluid = case.fluid.is_some() || section.ambient.as_ref().is_some_and(|a| a.forces);

@@ -31,7 +31,7 @@
 #                    made minutes apart
 # Before every run the two threads' hand-off of a cache line is timed with
 # `target/release/examples/core_to_core` when it has been built (cargo build --release --example
-# core_to_core): a 2-thread run's speed follows it (README, "A gang or one thread, by the
+# core_to_core): a 2-thread run's speed follows it (docs/performance.md, "A gang or one thread, by the
 # clock"), and the table gives the 1 → 2 ratios of the fast and the slow periods apart.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)

@@ -32,7 +32,7 @@ pub struct Pair {
 /// rest of its [`ContactRecord`] so the sub-steps stream 32 bytes per pair, not the record's
 /// hundred: the pair loop is bound by memory traffic (with a flag of its own for "touching"
 /// the entry took 40 bytes, a fifth more of a stream that, with the particles' arrays,
-/// overflows a core's 4 MB cache in the 10⁴ bed: README, "The fast particle path"). Laid out
+/// overflows a core's 4 MB cache in the 10⁴ bed: docs/performance.md). Laid out
 /// as four f64 (`repr(C)`), which the AVX and AVX-512 kernels load at once.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
