@@ -19,6 +19,7 @@ use spillage_fast::team::keep_awake;
 use spillage_model::case::Case;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
+use spillage_model::step::coupled::median::median;
 use spillage_model::step::{Coupled, FluidPhase};
 use spillage_reference::dem::ReferenceDem;
 use spillage_reference::fluid::ReferenceFluid;
@@ -121,17 +122,6 @@ fn fine_times(case: &Case) -> Vec<(f64, f64)> {
         keep_awake(|| time(&mut fast, 2));
         (0..ROUNDS).map(|_| (time(&mut reference, STRETCH), keep_awake(|| time(&mut fast, STRETCH)))).collect()
     })
-}
-
-/// The median of `values`.
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
 }
 
 /// The mapping alone on `case`'s initial state (one sample and one deposit, as a coupled step

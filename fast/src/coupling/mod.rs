@@ -15,6 +15,7 @@ pub mod quadrature;
 pub mod stencil;
 pub mod walls;
 
+pub use accumulate::accumulate_in_parallel;
 pub use diffusion::smooth_in_parallel;
 pub use stencil::stencils_in_parallel;
 
@@ -30,7 +31,7 @@ pub const MAPPING_SOLVERS: MappingSolvers = MappingSolvers {
     stencils: stencils_in_parallel,
     smoother: smooth_in_parallel,
     sampler: sample_in_parallel,
-    accumulator: accumulate::ACCUMULATE_IN_PARALLEL,
+    accumulator: accumulate_in_parallel,
     reuse_stencils: true,
 };
 

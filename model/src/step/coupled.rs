@@ -52,7 +52,7 @@ use crate::state::State;
 
 mod exit_route;
 mod later_batch;
-mod median;
+pub mod median;
 mod retry;
 
 use median::median;

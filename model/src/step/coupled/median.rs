@@ -5,7 +5,7 @@
 /// The middle order statistics are selected, not the whole list sorted (a run's 10⁴ particles
 /// were sorted at every step). Two values equal under `total_cmp` have the same bits, so the
 /// selected values, and the mean of the two, are those of a sort.
-pub(super) fn median(mut values: Vec<f64>) -> f64 {
+pub fn median(mut values: Vec<f64>) -> f64 {
     let n = values.len();
     let (below, middle, _) = values.select_nth_unstable_by(n / 2, f64::total_cmp);
     if n % 2 == 1 {
