@@ -338,7 +338,6 @@ impl FastFluid {
                 boundary_flux: &b.boundary_flux,
             };
             momentum::assemble(&momentum_inputs, &mut b.momentum_links, &mut b.momentum);
-            self.pressure_solver.momentum_assembled();
             // c. predictor M u = b − V∇P*
             disc.scalar_gradient(&b.pressure, &b.boundary_pressure, &mut b.pressure_gradient);
             let solve = MomentumSolve { solver: &mut self.momentum_solver, tolerance: self.settings.momentum, counts: &mut self.counts };

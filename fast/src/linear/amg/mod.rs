@@ -152,10 +152,20 @@ impl Amg {
         self.pattern_cols.clear();
     }
 
+    /// Whether the hierarchy was set up for a matrix of `a`'s size (rows and entries).
+    pub fn fits(&self, a: &Csr) -> bool {
+        !self.smoothers.is_empty() && self.pattern_rows.len() == a.row_start.len() && self.pattern_cols.len() == a.col.len()
+    }
+
+    /// Whether the hierarchy was set up for a matrix of `a`'s sparsity pattern.
+    fn has_pattern_of(&self, a: &Csr) -> bool {
+        !self.smoothers.is_empty() && self.pattern_rows == a.row_start && self.pattern_cols == a.col
+    }
+
     /// Builds the hierarchy for `a`: aggregation, colourings and values, or only the values
     /// when `a` has the sparsity pattern of the previous setup.
     pub fn setup(&mut self, a: &Csr) {
-        if !self.smoothers.is_empty() && self.pattern_rows == a.row_start && self.pattern_cols == a.col {
+        if self.has_pattern_of(a) {
             self.update_values(a);
             return;
         }
