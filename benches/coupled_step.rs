@@ -26,7 +26,7 @@ use spillage_reference::fluid::ReferenceFluid;
 
 #[path = "common/timing.rs"]
 mod timing;
-use timing::seconds_per_step;
+use timing::{seconds_per_next_steps, seconds_per_step};
 
 fn p3() -> Case {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/coupling/hindered_settling.toml");
@@ -85,8 +85,8 @@ fn ratio() {
     let _ = std::fs::write(dir.join("coupled_step.json"), json);
 }
 
-/// Rounds of [`fine_times`]: the machine's speed drifts by a third from one minute to the next
-/// (`docs/performance.md`), so one long stretch of each solver compares two speeds
+/// Rounds of [`fine_times`]: the machine's speed drifts by a third from hour to hour, and within
+/// minutes (`docs/performance.md`), so one long stretch of each solver compares two speeds
 /// of the machine; alternating short stretches over the same steps and taking the median of
 /// the rounds' ratios compares the solvers.
 const ROUNDS: usize = 5;
@@ -99,13 +99,6 @@ const STRETCH: usize = 3;
 /// over the same steps, after two steps each to warm up.
 fn fine_times(case: &Case) -> Vec<(f64, f64)> {
     let mesh = || spillage::verify::fluid::build_mesh(case).expect("mesh");
-    let time = |run: &mut dyn Solver, steps: usize| {
-        let t = Instant::now();
-        for _ in 0..steps {
-            run.step().expect("step");
-        }
-        t.elapsed().as_secs_f64() / steps as f64
-    };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
     // everything on the pool (the reference runs on one of its threads, as it runs alone); the
     // pool's other worker kept awake for the fast solver, as `spillage run` keeps it
@@ -118,9 +111,9 @@ fn fine_times(case: &Case) -> Vec<(f64, f64)> {
         let fluid = FastFluid::new(case, mesh(), &mut state).expect("fast fluid");
         let dem = FastDem::new(case, &mut state).expect("fast DEM");
         let mut fast = Coupled::new(case, state, Some(fluid), Some(dem)).expect("run").with_mapping_solvers(spillage_fast::coupling::MAPPING_SOLVERS);
-        time(&mut reference, 2);
-        keep_awake(|| time(&mut fast, 2));
-        (0..ROUNDS).map(|_| (time(&mut reference, STRETCH), keep_awake(|| time(&mut fast, STRETCH)))).collect()
+        seconds_per_next_steps(&mut reference, 2);
+        keep_awake(|| seconds_per_next_steps(&mut fast, 2));
+        (0..ROUNDS).map(|_| (seconds_per_next_steps(&mut reference, STRETCH), keep_awake(|| seconds_per_next_steps(&mut fast, STRETCH)))).collect()
     })
 }
 

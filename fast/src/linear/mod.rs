@@ -4,10 +4,10 @@
 //!
 //! Determinism: every parallel loop writes disjoint outputs computed in a fixed order, and every
 //! reduction sums fixed-size chunks ([`reduce::CHUNK`]; a gang's, [`reduce::GANG_CHUNK`]) whose
-//! partial sums are added in chunk order, so a solve gives the same bits on 1 or N threads. Conjugate gradients, the multigrid
-//! cycle and BiCGStab run as one gang of threads per solve ([`gang`]), or on the calling thread
-//! alone when this machine has been running that solver's gangs slower than one thread
-//! ([`pace`]); the other loops on rayon.
+//! partial sums are added in chunk order, so a solve gives the same bits on 1 or N threads.
+//! Conjugate gradients, the multigrid cycle and BiCGStab run as one gang of threads per solve
+//! ([`gang`]), or on the calling thread alone when this machine has been running that solver's
+//! gangs slower than one thread ([`pace`]); the other loops on rayon.
 
 pub mod amg;
 pub mod bicgstab;
