@@ -291,9 +291,23 @@ fn sized(rows: usize, partials: &mut Vec<PartialSum>) -> &[PartialSum] {
 /// [`run`] on the calling thread alone (a gang of one): for solves run side by side, one a
 /// thread, where a gang would wait for threads busy with the others' solves.
 pub fn run_alone<R>(rows: usize, partials: &mut Vec<PartialSum>, body: impl FnOnce(&Crew) -> R) -> R {
-    let partials = sized(rows, partials);
+    solo(sized(rows, partials), body)
+}
+
+/// `body` on the calling thread as a gang of one, its sums' chunks kept in `partials` (at least
+/// two buffers of [`solo_partials`]`(rows)`): a solve alone, or a member of a running gang
+/// working alone between two of its barriers (the coarse levels of a multigrid cycle, whose
+/// loops are shorter than a barrier). A gang of one computes the bits of any gang.
+pub fn solo<R>(partials: &[PartialSum], body: impl FnOnce(&Crew) -> R) -> R {
     let gang = Gang::new();
     body(&Crew { id: 0, size: 1, gang: &gang, partials, flip: Cell::new(0) })
+}
+
+/// Chunk sums enough for the sums of a gang over up to `rows` entries.
+pub fn solo_partials(rows: usize) -> Vec<PartialSum> {
+    let mut partials = Vec::new();
+    sized(rows, &mut partials);
+    partials
 }
 
 /// Whether [`run`] would gather a gang for `rows` rows (a pool of more than one thread, and at

@@ -28,7 +28,7 @@
 //! 384², 2 threads: 1.68 → 1.45 µs per cell-step).
 
 use super::csr::{Csr, Real};
-use super::gang::{Crew, Slot};
+use super::gang::{self, Crew, PartialSum, Slot};
 use super::par_update;
 use super::smoother::{inverse_diagonal, sweep, sweep_from_zero, Colouring};
 use super::Preconditioner;
@@ -50,6 +50,10 @@ const KCYCLE_MIN_RATIO: usize = 3;
 /// K-cycle only on coarse levels of at least this many rows: below it a level's kernels cost
 /// their fixed overheads more than their rows, and the 2ᵏ visits multiply those.
 const KCYCLE_MIN_ROWS: usize = 2048;
+/// A coarse correction on a level of fewer rows than this runs on one member of the gang while
+/// the others wait at one barrier: its loops (a colour of a few hundred rows) are shorter than
+/// the barriers after them, some twenty a visit of such a level and the levels below it.
+const SOLO_ROWS: usize = 1024;
 /// Pairing: a candidate replaces the best so far only if it is stronger by more than this
 /// factor. Couplings that are equal up to rounding (of the face geometry, and of the f32
 /// storage: 6e-8) then pair in column order, which keeps the aggregates of a uniform block
@@ -141,6 +145,8 @@ pub struct Amg {
     /// Sparsity pattern of the finest matrix of the last setup.
     pattern_rows: Vec<u32>,
     pattern_cols: Vec<u32>,
+    /// Chunk sums of the coarse corrections run by one member ([`SOLO_ROWS`]).
+    solo_partials: Vec<PartialSum>,
     /// Bytes the executed kernels stream (see [`Amg::bytes_streamed`]).
     bytes: f64,
 }
@@ -222,6 +228,9 @@ impl Amg {
         let last = self.coarse.last().unwrap_or(&self.fine);
         self.coarsest_smoother.colouring.build(last);
         self.work.resize_with(level, LevelWork::default);
+        if self.solo_partials.is_empty() {
+            self.solo_partials = gang::solo_partials(SOLO_ROWS);
+        }
         for k in 0..level {
             let nc = self.coarse[k].n;
             let w = &mut self.work[k];
@@ -287,8 +296,8 @@ impl Amg {
 impl Preconditioner for Amg {
     /// One cycle on the hierarchy of the last [`Amg::setup`], whose matrix `_a` must be.
     unsafe fn apply(&self, crew: &Crew, _a: &Csr, r: &[Slot<f64>], z: &[Slot<f64>], bytes: &mut f64) {
-        let Amg { transfers, fine, coarse, smoothers, work, dense, coarsest_smoother, .. } = self;
-        let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother };
+        let Amg { transfers, fine, coarse, smoothers, work, dense, coarsest_smoother, solo_partials, .. } = self;
+        let levels = Levels { transfers, coarse, smoothers, dense: dense.as_ref(), coarsest: coarsest_smoother, solo_partials };
         // SAFETY: the caller's promise; the work vectors are this solve's (one at a time)
         unsafe { cycle(crew, fine, r, z, &levels, 0, work, bytes) };
     }
@@ -330,6 +339,7 @@ struct Levels<'a> {
     smoothers: &'a [Smoother],
     dense: Option<&'a Dense>,
     coarsest: &'a Smoother,
+    solo_partials: &'a [PartialSum],
 }
 
 /// Exact (dense) or approximate (two symmetric sweeps, when coarsening stalled) coarsest solve.
@@ -400,14 +410,23 @@ unsafe fn cycle<V: Real>(crew: &Crew, a: &Csr<f32>, b: &[Slot<V>], x: &[Slot<V>]
         }
         unsafe { w.bc[c].set(sum as f32) };
     });
-    if k + 1 == levels.transfers.len() {
-        unsafe { coarsest(crew, ac, &w.bc, &w.xc, levels, bytes) };
-    } else if ac.n * KCYCLE_MIN_RATIO <= a.n && ac.n >= KCYCLE_MIN_ROWS {
-        unsafe { k_cycle_correction(crew, ac, w, levels, k + 1, rest, bytes) };
+    let correction = |crew: &Crew, bytes: &mut f64| {
+        if k + 1 == levels.transfers.len() {
+            unsafe { coarsest(crew, ac, &w.bc, &w.xc, levels, bytes) };
+        } else if ac.n * KCYCLE_MIN_RATIO <= a.n && ac.n >= KCYCLE_MIN_ROWS {
+            unsafe { k_cycle_correction(crew, ac, w, levels, k + 1, rest, bytes) };
+        } else {
+            // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit,
+            // or the K-cycle's two visits per level would multiply without the work shrinking
+            unsafe { cycle(crew, ac, &w.bc, &w.xc, levels, k + 1, rest, bytes) };
+        }
+    };
+    if crew.size() > 1 && ac.n < SOLO_ROWS {
+        // one member computes what the gang would (a gang of one has any gang's bits), the
+        // others meet it at the barrier of `alone`, after which they read xc
+        crew.alone(|| gang::solo(levels.solo_partials, |solo| correction(solo, bytes)));
     } else {
-        // poor coarsening (weakly coupled rows near the bottom of the hierarchy): one visit, or
-        // the K-cycle's two visits per level would multiply without the work shrinking
-        unsafe { cycle(crew, ac, &w.bc, &w.xc, levels, k + 1, rest, bytes) };
+        correction(crew, bytes);
     }
     // prolongation; the backward sweep starts with the last colour and overwrites those rows
     // from their (corrected) neighbours alone, so they are not corrected here
@@ -532,7 +551,8 @@ mod tests {
     }
 
     /// The whole K-cycle CG (sweeps, restrictions, products with sums, the coarse K-cycle
-    /// steps, the dense coarsest solve) on a gang of two threads gives the bits of one thread.
+    /// steps, the coarse corrections one member runs alone, the dense coarsest solve) on a gang
+    /// of two threads gives the bits of one thread.
     #[test]
     fn a_gang_of_two_threads_solves_with_the_bits_of_one() {
         let a = laplacian(96, 64);
@@ -545,6 +565,8 @@ mod tests {
                 crate::team::keep_awake(|| {
                     let mut amg = Amg::default();
                     amg.setup(&a);
+                    let sizes = amg.level_sizes();
+                    assert!(sizes.iter().any(|&(rows, _, _)| rows < SOLO_ROWS) && sizes[1].0 >= SOLO_ROWS, "levels shared and alone: {sizes:?}");
                     let mut x = vec![0.0; a.n];
                     let gangs = || crate::linear::gang::GANGS_OF_SEVERAL.with(|c| c.get());
                     let before = gangs();
