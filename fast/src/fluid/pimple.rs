@@ -141,6 +141,7 @@ impl FastFluid {
         let boundary = Boundary::build(&mesh, &conditions, rotor.as_ref(), &in_rotor);
         let solved = solved_components(&mesh);
         let turbulence = case.turbulence.is_k_epsilon().then(|| FastTurbulence::new(case.turbulence.clone(), conditions.wall_patch_names(&mesh)));
+        let pressure_solver = if rotor.is_some() { PressureSolver::default() } else { PressureSolver::on_a_fixed_mesh() };
         let mut solver = FastFluid {
             mesh,
             fluid: FluidState::default(),
@@ -170,7 +171,7 @@ impl FastFluid {
             particle_sources: ParticleSources::default(),
             particles_active: false,
             momentum_solver: BiCgStab::default(),
-            pressure_solver: PressureSolver::default(),
+            pressure_solver,
             reducer: Reducer::default(),
             counts: SolveCounts::default(),
             orthogonal: None,

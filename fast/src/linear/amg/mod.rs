@@ -145,6 +145,9 @@ pub struct Amg {
     /// Sparsity pattern of the finest matrix of the last setup.
     pattern_rows: Vec<u32>,
     pattern_cols: Vec<u32>,
+    /// Values of the matrix the kept aggregation was made from by
+    /// [`Amg::setup_aggregated_on`] (empty: made from the values of the last setup).
+    aggregated_on: Csr,
     /// Chunk sums of the coarse corrections run by one member ([`SOLO_ROWS`]).
     solo_partials: Vec<PartialSum>,
     /// Bytes the executed kernels stream (see [`Amg::bytes_streamed`]).
@@ -156,6 +159,7 @@ impl Amg {
     pub fn forget_aggregation(&mut self) {
         self.pattern_rows.clear();
         self.pattern_cols.clear();
+        self.aggregated_on = Csr::default();
     }
 
     /// Whether the hierarchy was set up for a matrix of `a`'s size (rows and entries).
@@ -239,6 +243,24 @@ impl Amg {
             }
         }
         self.finish_values();
+    }
+
+    /// Builds the hierarchy for `a` with the aggregation (pairs, colourings, coarse patterns)
+    /// made from `aggregation`, a matrix of `a`'s sparsity pattern: made afresh only when
+    /// `aggregation` differs from the one of the kept hierarchy, the values always from `a`.
+    /// With an `aggregation` that depends on the mesh alone, the preconditioner of a solve
+    /// depends on its own matrix and the mesh, not on the run's history: a restarted run
+    /// solves as the uninterrupted one.
+    pub fn setup_aggregated_on(&mut self, aggregation: &Csr, a: &Csr) {
+        assert!(aggregation.row_start == a.row_start && aggregation.col == a.col, "setup_aggregated_on: the aggregation matrix has the pattern of the matrix");
+        let kept = self.has_pattern_of(aggregation) && self.aggregated_on.val == aggregation.val && self.aggregated_on.diag == aggregation.diag;
+        if !kept {
+            self.forget_aggregation();
+            self.setup(aggregation);
+            self.aggregated_on.val.clone_from(&aggregation.val);
+            self.aggregated_on.diag.clone_from(&aggregation.diag);
+        }
+        self.update_values(a);
     }
 
     /// Coarse values of the kept aggregation for new fine values.
@@ -581,6 +603,45 @@ mod tests {
             (0..50).map(|_| solve(2)).find(|(_, _, gangs)| *gangs > 0).map(|(x, s, _)| (x, s)).expect("a gang of two threads formed in 50 tries");
         assert_eq!(stats_one, stats_two);
         assert!(x_one.iter().zip(&x_two).all(|(p, q)| p.to_bits() == q.to_bits()), "the bits of one thread");
+    }
+
+    /// With the aggregation made on a matrix of the mesh alone, a solve does not depend on the
+    /// matrices set up before it: a hierarchy that kept its aggregation from an earlier matrix
+    /// solves with the bits of one set up for this matrix alone (a restarted run).
+    #[test]
+    fn a_hierarchy_aggregated_on_a_fixed_matrix_solves_as_one_set_up_afresh() {
+        let geometric = laplacian(80, 60);
+        // coefficients varying by 2× over the grid, and differently from one step to the next
+        let step_matrix = |step: f64| {
+            let mut a = geometric.clone();
+            for (k, v) in a.val.iter_mut().enumerate() {
+                *v *= 1.0 + 0.5 * ((k as f64 * 0.013 + step).sin() + 1.0);
+            }
+            for r in 0..a.n {
+                a.diag[r] = -a.val[a.row_start[r] as usize..a.row_start[r + 1] as usize].iter().sum::<f64>() + 1e-3;
+            }
+            a
+        };
+        let (first, second) = (step_matrix(0.0), step_matrix(1.7));
+        let b: Vec<f64> = (0..second.n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
+        let tol = Tolerance { tolerance: 1e-12, max_iterations: 500 };
+        let solve = |amg: &mut Amg| {
+            let mut x = vec![0.0; second.n];
+            let stats = Pcg::default().solve(&second, &b, &mut x, amg, tol);
+            (x.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), stats)
+        };
+        let mut kept = Amg::default();
+        kept.setup_aggregated_on(&geometric, &first);
+        kept.setup_aggregated_on(&geometric, &second);
+        let mut afresh = Amg::default();
+        afresh.setup_aggregated_on(&geometric, &second);
+        let (x_kept, stats_kept) = solve(&mut kept);
+        assert!(stats_kept.final_residual < 1e-12, "{stats_kept:?}");
+        assert_eq!((x_kept, stats_kept), solve(&mut afresh));
+        // aggregated on the step's own matrix instead, the hierarchy is another one
+        let mut own = Amg::default();
+        own.setup(&second);
+        assert_ne!(solve(&mut own).0, solve(&mut afresh).0, "the aggregation matrix matters (else the test shows nothing)");
     }
 
     #[test]
