@@ -34,14 +34,8 @@ pub(super) enum Way {
 /// last minutes and a solve milliseconds, so at the longest interval a way that became the
 /// cheaper is found within a few hundred solves, and the probes cost 2/257 of the difference
 /// between the ways (the chosen way's own solves show at once when it becomes the dearer).
-/// Odd intervals, so that probes do not keep landing on the same corrector of a step. The
-/// first interval is not shorter: a way the probes confirm costs the run the difference of
-/// the ways at every probe, and a run's first steps, where the intervals are shortest, are all
-/// of a short run. (P3 fine's benchmark times 15 steps of four pressure solves after two to
-/// warm up: with a first interval of 9, five of its 60 were probes on one thread, at 1.4–1.8
-/// times the gang's time. 16 steps of P3 fine on 2 threads, six alternating runs: median
-/// 0.0182 s a step with 33 against 0.0185 s with 9.)
-const PROBE_FIRST: u64 = 33;
+/// Odd intervals, so that probes do not keep landing on the same corrector of a step.
+const PROBE_FIRST: u64 = 9;
 const PROBE_LAST: u64 = 257;
 
 /// The first solve of a run is not recorded, nor the first of each probe: the other thread
@@ -205,13 +199,13 @@ mod tests {
         let mut pace = Pace::default();
         // the gang twice as fast, its first (cold) solve 100× slower: two solves alone at
         // once (the second measured), then a gang but for the probes, each two solves alone,
-        // 33, 65, 129, 257 solves apart
+        // 9, 17, 33, 65, 129, 257, 257 solves apart
         let ways = run(&mut pace, 600, |way, k| match way {
             Way::Gang if k == 0 => 1e-7,
             Way::Gang => 1e-9,
             Way::Alone => 2e-9,
         });
-        assert_eq!(taking(&ways, Way::Alone), vec![2, 3, 37, 38, 104, 105, 235, 236, 494, 495]);
+        assert_eq!(taking(&ways, Way::Alone), vec![2, 3, 13, 14, 32, 33, 67, 68, 134, 135, 265, 266, 524, 525]);
         // the gang's cost is that of its warm solves, to the division of whole nanoseconds
         let gang = pace.cost(Way::Gang).expect("measured");
         assert!((gang - 1e-9).abs() < 1e-24, "{gang}");
@@ -226,7 +220,7 @@ mod tests {
             Way::Gang => 1e-9,
             Way::Alone => 2e-9,
         });
-        assert_eq!(taking(&ways, Way::Alone), vec![2, 3, 37, 38]);
+        assert_eq!(taking(&ways, Way::Alone), vec![2, 3, 13, 14, 32, 33]);
     }
 
     #[test]
@@ -234,33 +228,33 @@ mod tests {
         let mut pace = Pace::default();
         // the machine changes at solve 40: the gang 2× slower than one thread from then on;
         // after three gang solves at the new cost (40–42), alone but for the probes of the
-        // gang, 33, 65, … solves apart again
+        // gang, 9, 17, 33, … solves apart again
         let ways = run(&mut pace, 200, |way, k| match (way, k < 40) {
             (Way::Gang, true) => 1e-9,
             (Way::Gang, false) => 3e-9,
             (Way::Alone, _) => 1.5e-9,
         });
-        assert_eq!(taking(&ways[..40], Way::Alone), vec![2, 3, 37, 38]);
+        assert_eq!(taking(&ways[..40], Way::Alone), vec![2, 3, 13, 14, 32, 33]);
         let gang: Vec<usize> = taking(&ways[40..], Way::Gang).iter().map(|k| k + 40).collect();
-        assert_eq!(gang, vec![40, 41, 42, 76, 77, 143, 144]);
+        assert_eq!(gang, vec![40, 41, 42, 52, 53, 71, 72, 106, 107, 173, 174]);
     }
 
     #[test]
     fn the_way_comes_back_when_the_gang_is_fast_again() {
         let mut pace = Pace::default();
-        // the gang slow over solves 30–99, fast before and after: alone from solve 33 (after
-        // three slow gang solves, 30–32), the gang probed at 66 and 133; the probe ending at
-        // 134 finds it fast again, and from then on only the probes are alone
+        // the gang slow over solves 30–99, fast before and after: alone from solve 35 (after
+        // three slow gang solves, 30, 31 and 34, around a probe), the gang probed at 44, 63,
+        // 98, 165; the probe ending at 166 finds it fast again, and from then on only the
+        // probes are alone
         let ways = run(&mut pace, 300, |way, k| match way {
             Way::Gang if (30..100).contains(&k) => 3e-9,
             Way::Gang => 1e-9,
             Way::Alone => 1.5e-9,
         });
-        assert_eq!(&ways[30..34], &[Way::Gang, Way::Gang, Way::Gang, Way::Alone]);
-        let gang: Vec<usize> = taking(&ways[33..135], Way::Gang).iter().map(|k| k + 33).collect();
-        assert_eq!(gang, vec![66, 67, 133, 134]);
-        let alone: Vec<usize> = taking(&ways[135..], Way::Alone).iter().map(|k| k + 135).collect();
-        assert_eq!(alone, vec![168, 169, 235, 236]);
+        let gang: Vec<usize> = taking(&ways[35..167], Way::Gang).iter().map(|k| k + 35).collect();
+        assert_eq!(gang, vec![44, 45, 63, 64, 98, 99, 165, 166]);
+        let alone: Vec<usize> = taking(&ways[167..], Way::Alone).iter().map(|k| k + 167).collect();
+        assert_eq!(alone, vec![176, 177, 195, 196, 230, 231, 297, 298]);
     }
 
     #[test]
@@ -274,7 +268,7 @@ mod tests {
             Way::Alone => 1.01e-9,
         });
         let gang: Vec<usize> = taking(&ways[4..], Way::Gang).iter().map(|k| k + 4).collect();
-        assert_eq!(gang, vec![37, 38, 104, 105]);
+        assert_eq!(gang, vec![13, 14, 32, 33, 67, 68, 134, 135]);
     }
 
     #[test]
