@@ -2,7 +2,10 @@
 //! (`cases/bench/settle_box_10k.toml`, `settle_box_100k.toml`: d = 10 mm, Hertz–Mindlin–Tsuji
 //! with E softened to 1e7 Pa, e = 0.5, μ = 0.3, sub-step 1/21 of the collision time), in
 //! particle sub-steps per second: the fast DEM on 1 and 2 threads, the reference DEM on 1, all
-//! measured in one run.
+//! measured in one run. One and two threads take turns, [`ROUNDS`] times, each from the bed's
+//! start, and the ratio is the median of the rounds' ratios: the machine's speed moves by a
+//! third from hour to hour (README, *Where it stands*), and one stretch of each had compared two
+//! speeds of the machine as often as two thread counts.
 //!
 //! `cargo bench --bench dem_settle` prints the rates and ratios and writes them to
 //! `target/spillage-bench/dem_settle.json`; LIGGGHTS' rate on the same bed comes from
@@ -16,8 +19,12 @@ use spillage_fast::dem::FastDem;
 use spillage_model::case::Case;
 use spillage_model::solver::Solver;
 use spillage_model::state::State;
+use spillage_model::step::coupled::median::median;
 use spillage_model::step::{Coupled, ParticlePhase};
 use spillage_reference::dem::ReferenceDem;
+
+/// Rounds of one thread then two.
+const ROUNDS: usize = 3;
 
 fn bed(name: &str) -> Case {
     Case::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/bench").join(name)).expect("benchmark case")
@@ -57,12 +64,14 @@ fn rates() {
     let mut json = Vec::new();
     for (name, steps, reference_steps) in [("settle_box_10k.toml", 8, 2), ("settle_box_100k.toml", 3, 0)] {
         let case = bed(name);
-        let fast_1 = rate(&mut run(&case, fast), steps, 1);
-        let fast_2 = rate(&mut run(&case, fast), steps, 2);
+        let rounds: Vec<(f64, f64)> = (0..ROUNDS).map(|_| (rate(&mut run(&case, fast), steps, 1), rate(&mut run(&case, fast), steps, 2))).collect();
+        let (fast_1, fast_2) = (median(rounds.iter().map(|r| r.0).collect()), median(rounds.iter().map(|r| r.1).collect()));
+        let scaling = median(rounds.iter().map(|(one, two)| two / one).collect());
+        let each: Vec<String> = rounds.iter().map(|(one, two)| format!("{:.2}", two / one)).collect();
         let reference_1 = if reference_steps > 0 { rate(&mut run(&case, reference), reference_steps, 1) } else { f64::NAN };
         println!(
-            "{name}: fast {fast_1:.3e} particle-steps/s on 1 thread, {fast_2:.3e} on 2 ({:.2}x); reference {reference_1:.3e} on 1 (fast/reference {:.1}x)",
-            fast_2 / fast_1,
+            "{name}: fast {fast_1:.3e} particle-steps/s on 1 thread, {fast_2:.3e} on 2 ({scaling:.2}x: the median of {ROUNDS} alternating rounds, {}); reference {reference_1:.3e} on 1 (fast/reference {:.1}x)",
+            each.join(", "),
             fast_1 / reference_1
         );
         let number = |x: f64| if x.is_finite() { format!("{x}") } else { "null".to_string() };
@@ -70,7 +79,7 @@ fn rates() {
             "{{\"case\": \"{name}\", \"fast_1_thread\": {fast_1}, \"fast_2_threads\": {fast_2}, \"reference_1_thread\": {}, \"fast_over_reference\": {}, \"two_over_one_thread\": {}}}",
             number(reference_1),
             number(fast_1 / reference_1),
-            fast_2 / fast_1
+            scaling
         ));
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/spillage-bench");
