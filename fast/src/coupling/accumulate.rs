@@ -1,6 +1,7 @@
 //! The deposit's sums over the cells in parallel (a
 //! [`spillage_model::coupling::accumulate::Accumulator`]): the cells are cut into ranges of about
-//! equal work, and each range adds every particle's terms for its own cells in particle order, so every cell gets the reference's sum, bit for bit, on any number of threads
+//! equal work, and each range adds every particle's terms for its own cells in particle order,
+//! so every cell gets the reference's sum, bit for bit, on any number of threads
 //! ([`spillage_model::coupling::accumulate`]). The particles are never split: that would regroup
 //! a cell's sum.
 //!

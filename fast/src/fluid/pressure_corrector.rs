@@ -37,9 +37,9 @@ use crate::linear::{par_update, Csr, SolveStats, Tolerance};
 pub struct PressureSolver {
     pcg: Pcg,
     amg: Amg,
-    /// On a mesh that does not move: the pressure matrix with the geometric coefficients alone
-    /// (α_f rAU_f = 1), which the hierarchy is aggregated on ([`PressureSolver::on_a_fixed_mesh`]).
-    geometric: Option<Csr>,
+    /// The mesh does not move: the hierarchy is aggregated once, on the geometric pressure
+    /// matrix ([`PressureSolver::on_a_fixed_mesh`]).
+    fixed_mesh: bool,
     /// Whether the hierarchy was set up in this step.
     hierarchy_current: bool,
     /// The start of a solve with the step's hierarchy, kept to solve again with a fresh one.
@@ -54,7 +54,7 @@ impl PressureSolver {
     /// run did. (Found by the two-way coupled restart test, where α_c changes the pressure
     /// matrix every step; with a turning rotor the pattern changes every step anyway.)
     pub fn new_step(&mut self) {
-        if self.geometric.is_none() {
+        if !self.fixed_mesh {
             self.amg.forget_aggregation();
         }
         self.hierarchy_current = false;
@@ -68,7 +68,7 @@ impl PressureSolver {
     /// while the other waited. (A turning rotor moves the interface's links every step, and its
     /// hierarchy is aggregated afresh from each step's first matrix.)
     pub fn on_a_fixed_mesh() -> Self {
-        PressureSolver { geometric: Some(Csr::default()), ..Default::default() }
+        PressureSolver { fixed_mesh: true, ..Default::default() }
     }
 
     /// (rows, off-diagonal entries, colours) of the multigrid levels.
@@ -103,13 +103,12 @@ impl PressureSolver {
 
     fn set_up(&mut self, disc: &Discretisation, matrix: &Csr, counts: &mut SolveCounts) {
         let clock = std::time::Instant::now();
-        match self.geometric.as_mut() {
-            Some(geometric) => {
-                geometric_pressure_matrix(disc, matrix, geometric);
-                self.amg.setup_aggregated_on(geometric, matrix);
-            }
-            None => self.amg.setup(matrix),
+        if self.fixed_mesh && !self.amg.has_pattern_of(matrix) {
+            // the run's first solve: aggregated on the geometry, which every later setup keeps
+            // (the same pattern), setting up only its own matrix's values
+            self.amg.setup(&geometric_pressure_matrix(disc, matrix));
         }
+        self.amg.setup(matrix);
         self.hierarchy_current = true;
         counts.amg_setup_seconds += clock.elapsed().as_secs_f64();
     }
@@ -363,14 +362,11 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
 
 /// The pressure matrix of `matrix`'s pattern with the geometric coefficients alone: −|S|²/(d·S)
 /// per link, the diagonal their sum plus |S|/d_n per fixed-pressure face, cell 0 pinned as in
-/// [`assemble_pressure_equation`] (no allocation once `out` has held it).
-fn geometric_pressure_matrix(disc: &Discretisation, matrix: &Csr, out: &mut Csr) {
+/// [`assemble_pressure_equation`].
+fn geometric_pressure_matrix(disc: &Discretisation, matrix: &Csr) -> Csr {
     let (adj, bnd, laplacian) = (disc.adjacency, disc.boundary, &disc.links.laplacian);
-    out.n = matrix.n;
-    out.row_start.clone_from(&matrix.row_start);
-    out.col.clone_from(&matrix.col);
-    out.val.resize(matrix.val.len(), 0.0);
-    out.diag.resize(matrix.n, 0.0);
+    let mut out =
+        Csr { n: matrix.n, row_start: matrix.row_start.clone(), col: matrix.col.clone(), val: vec![0.0; matrix.val.len()], diag: vec![0.0; matrix.n] };
     for c in 0..matrix.n {
         let mut diag = 0.0;
         for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
@@ -388,6 +384,7 @@ fn geometric_pressure_matrix(disc: &Discretisation, matrix: &Csr, out: &mut Csr)
     if !disc.conditions.has_fixed_pressure {
         out.diag[0] *= 2.0;
     }
+    out
 }
 
 /// Conservative fluxes from the solved pressure (T4.28): φ = φ_pred − rAU_f |S|²/(d·S)(P_N − P_P)

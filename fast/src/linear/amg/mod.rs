@@ -147,9 +147,6 @@ pub struct Amg {
     /// Sparsity pattern of the finest matrix of the last setup.
     pattern_rows: Vec<u32>,
     pattern_cols: Vec<u32>,
-    /// Values of the matrix the kept aggregation was made from by
-    /// [`Amg::setup_aggregated_on`] (empty: made from the values of the last setup).
-    aggregated_on: Csr,
     /// Chunk sums of the coarse corrections run by one member ([`SOLO_ROWS`]).
     solo_partials: Vec<PartialSum>,
     /// Bytes the executed kernels stream (see [`Amg::bytes_streamed`]).
@@ -161,7 +158,6 @@ impl Amg {
     pub fn forget_aggregation(&mut self) {
         self.pattern_rows.clear();
         self.pattern_cols.clear();
-        self.aggregated_on = Csr::default();
     }
 
     /// Whether the hierarchy was set up for a matrix of `a`'s size (rows and entries).
@@ -169,8 +165,9 @@ impl Amg {
         !self.smoothers.is_empty() && self.pattern_rows.len() == a.row_start.len() && self.pattern_cols.len() == a.col.len()
     }
 
-    /// Whether the hierarchy was set up for a matrix of `a`'s sparsity pattern.
-    fn has_pattern_of(&self, a: &Csr) -> bool {
+    /// Whether the hierarchy was set up for a matrix of `a`'s sparsity pattern (a [`Amg::setup`]
+    /// for `a` then keeps its aggregation).
+    pub fn has_pattern_of(&self, a: &Csr) -> bool {
         !self.smoothers.is_empty() && self.pattern_rows == a.row_start && self.pattern_cols == a.col
     }
 
@@ -245,24 +242,6 @@ impl Amg {
             }
         }
         self.finish_values();
-    }
-
-    /// Builds the hierarchy for `a` with the aggregation (pairs, colourings, coarse patterns)
-    /// made from `aggregation`, a matrix of `a`'s sparsity pattern: made afresh only when
-    /// `aggregation` differs from the one of the kept hierarchy, the values always from `a`.
-    /// With an `aggregation` that depends on the mesh alone, the preconditioner of a solve
-    /// depends on its own matrix and the mesh, not on the run's history: a restarted run
-    /// solves as the uninterrupted one.
-    pub fn setup_aggregated_on(&mut self, aggregation: &Csr, a: &Csr) {
-        assert!(aggregation.row_start == a.row_start && aggregation.col == a.col, "setup_aggregated_on: the aggregation matrix has the pattern of the matrix");
-        let kept = self.has_pattern_of(aggregation) && self.aggregated_on.val == aggregation.val && self.aggregated_on.diag == aggregation.diag;
-        if !kept {
-            self.forget_aggregation();
-            self.setup(aggregation);
-            self.aggregated_on.val.clone_from(&aggregation.val);
-            self.aggregated_on.diag.clone_from(&aggregation.diag);
-        }
-        self.update_values(a);
     }
 
     /// Coarse values of the kept aggregation for new fine values.
@@ -445,11 +424,15 @@ mod tests {
             let stats = Pcg::default().solve(&second, &b, &mut x, amg, tol);
             (x.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), stats)
         };
+        // aggregated on `geometric`, each later setup keeps the aggregation (the same pattern)
         let mut kept = Amg::default();
-        kept.setup_aggregated_on(&geometric, &first);
-        kept.setup_aggregated_on(&geometric, &second);
+        for a in [&geometric, &first, &second] {
+            kept.setup(a);
+        }
         let mut afresh = Amg::default();
-        afresh.setup_aggregated_on(&geometric, &second);
+        for a in [&geometric, &second] {
+            afresh.setup(a);
+        }
         let (x_kept, stats_kept) = solve(&mut kept);
         assert!(stats_kept.final_residual < 1e-12, "{stats_kept:?}");
         assert_eq!((x_kept, stats_kept), solve(&mut afresh));
