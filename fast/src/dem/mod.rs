@@ -46,7 +46,7 @@ use spillage_model::walls::state::{WallFrame, WallState};
 use crate::team::{with_team, DisjointSlices, Team};
 use arrays::ParticleArrays;
 use integrate::{advance_particles, NothingToAdd, Pass, PassSums, StepSums, BLOCK};
-use neighbour_list::{History, NeighbourList};
+use neighbour_list::{History, NeighbourList, TouchingTotals};
 use pair_forces::{evaluate_and_add, first_fault, PairContext};
 use wall_forces::{BlockWalls, CandidateMarks, FarFromWalls, NearTriangles, WallContext, WallFound, WallSide};
 
@@ -91,6 +91,8 @@ pub struct FastDem {
     /// Which particles the wall pass looks at while the neighbour list and every wall's pose
     /// stay as they were when it was marked ([`WallCandidates`]).
     candidates: WallCandidates,
+    /// The pieces' sums of [`NeighbourList::touching_totals`] (kept: no sub-step allocates).
+    touching_totals: Vec<TouchingTotals>,
     frames: Vec<WallFrame>,
     /// Each wall's pose count: bumped whenever its frame changes (from 1, so a particle's
     /// never-filled near triangles, at 0, never match).
@@ -155,6 +157,7 @@ impl FastDem {
             wall_found: Vec::new(),
             wall_impacts: Vec::new(),
             candidates: WallCandidates::default(),
+            touching_totals: Vec::new(),
             frames: Vec::new(),
             poses: Vec::new(),
             sums: StepSums::default(),
@@ -170,7 +173,7 @@ impl FastDem {
     /// left (no feed, exit or restart since), the arrays, the neighbour list and the near
     /// triangles carry on; otherwise, or every [`RESORT_STEPS`] steps so neighbours stay close
     /// in memory, they are loaded in cell order again.
-    fn take(&mut self, particles: &ParticleState) {
+    fn take(&mut self, particles: &ParticleState, team: &Team) {
         let a = &self.arrays;
         let unchanged = self.steps_since_load < RESORT_STEPS
             && a.len() == particles.particles.len()
@@ -189,16 +192,16 @@ impl FastDem {
             self.sums.reset(a.len());
         } else {
             self.steps_since_load = 0;
-            self.load(particles);
+            self.load(particles, team);
         }
     }
 
     /// Loads the particles and their contact histories from the state (cell order).
-    fn load(&mut self, particles: &ParticleState) {
+    fn load(&mut self, particles: &ParticleState, team: &Team) {
         let d_max = particles.particles.iter().map(|p| p.diameter).fold(0.0, f64::max);
         self.list.skin = SKIN_FRACTION * d_max;
         self.arrays.load(&particles.particles, d_max + self.list.skin);
-        self.list.build(&self.arrays, &self.setup.materials, History::Records(&particles.contacts));
+        self.list.build(&self.arrays, &self.setup.materials, History::Records(&particles.contacts), team);
         // the particles are in a new order: every one is a candidate until marked again
         self.candidates.may_touch.clear();
         self.candidates.may_touch.resize(self.arrays.len(), true);
@@ -227,8 +230,8 @@ impl FastDem {
     /// (ascending ids of a, then b) and each side's wall records follow its pairs (walls sort
     /// after particles), so the sides are ordered by id and merged in, not the whole history
     /// sorted again.
-    fn store_history(&mut self, particles: &mut ParticleState) {
-        self.list.sync_records(&self.arrays);
+    fn store_history(&mut self, particles: &mut ParticleState, team: &Team) {
+        self.list.sync_records(&self.arrays, team);
         let mut sides: Vec<(u64, usize)> =
             self.wall_sides.iter().enumerate().filter(|(_, s)| !s.history.is_empty()).map(|(k, _)| (self.arrays.id[k], k)).collect();
         sides.sort_unstable();
@@ -326,7 +329,7 @@ impl FastDem {
         team: &Team,
     ) -> (ContactTotals, Option<Fault>, PassSums) {
         if self.list.is_stale(&self.arrays, max_displacement_sq) {
-            self.list.build(&self.arrays, &self.setup.materials, History::Previous);
+            self.list.build(&self.arrays, &self.setup.materials, History::Previous, team);
             self.candidates.epoch = None;
         }
         let pair_context =
@@ -419,13 +422,8 @@ impl FastDem {
         // make their first contacts, at every sub-step
         let mut totals = ContactTotals::default();
         if totals_needed {
-            let list = &self.list;
-            for ((pair, e), _) in list.pairs.iter().zip(&list.energy).zip(&list.forces).filter(|(_, f)| f.touching) {
-                totals.contacts += 1;
-                totals.max_overlap_ratio = totals.max_overlap_ratio.max(e.overlap / self.arrays.radius[pair.a as usize]);
-                totals.elastic += e.elastic;
-                totals.placed += e.placed;
-            }
+            let pairs = self.list.touching_totals(&self.arrays.radius, &mut self.touching_totals, team);
+            (totals.contacts, totals.max_overlap_ratio, totals.elastic, totals.placed) = (pairs.contacts, pairs.max_overlap_ratio, pairs.elastic, pairs.placed);
         }
         let mut wall_fault: Option<(u64, Fault)> = None;
         let first_impact = impacts.len();
@@ -490,31 +488,35 @@ impl ParticlePhase for FastDem {
             return Err(unsupported(format!("the fluid was sampled for {} particles, but there are {}", fluid.len(), particles.particles.len())));
         }
         self.budget.start_step(&particles.particles);
-        self.take(particles);
-        let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
         // without any fluid sample (a DEM-only run) the sub-steps need not look each one up
         let fluid = if fluid.iter().all(Option::is_none) { &[] } else { fluid };
         let mut impacts = std::mem::take(&mut particles.impacts);
         let logged_before = impacts.len();
-        // the sub-steps' parallel parts run on a team kept awake for the whole step
-        let substeps = with_team(|team| self.substeps(ctx, walls, fluid, n, feeding, &mut impacts, team));
-        let totals = match substeps {
-            Ok(totals) => totals,
-            Err(SubstepFault { substep, time, fault }) => {
-                // a pair fault leaves the particles where its sub-step evaluated the contacts; a
-                // wall fault, found by the pass that moves them, where that pass left them
-                self.arrays.store(&mut particles.particles);
-                particles.impacts = impacts;
-                let what = format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), substep + 1);
-                return Err(SolverError::Diverged { step: ctx.step, time, what });
-            }
-        };
-        self.arrays.store(&mut particles.particles);
-        particles.counts.impacts += impacts[logged_before..].iter().filter(|i| !i.sliding).count() as u64;
-        particles.impacts = impacts;
-        self.budget.check(ctx, &particles.particles, totals.elastic, elastic_start, self.setup.section.collision_speed)?;
-        self.fed_from = particles.next_id;
-        self.store_history(particles);
+        // the step's parallel parts (a new list's build, the sub-steps', the records brought up
+        // to date) run on a team kept awake for the whole step
+        let totals = with_team(|team| {
+            self.take(particles, team);
+            let feeding = self.arrays.id.iter().any(|&id| id >= self.fed_from);
+            let totals = match self.substeps(ctx, walls, fluid, n, feeding, &mut impacts, team) {
+                Ok(totals) => totals,
+                Err(SubstepFault { substep, time, fault }) => {
+                    // a pair fault leaves the particles where its sub-step evaluated the
+                    // contacts; a wall fault, found by the pass that moves them, where that pass
+                    // left them
+                    self.arrays.store(&mut particles.particles);
+                    particles.impacts = std::mem::take(&mut impacts);
+                    let what = format!("{} (DEM sub-step {} of {n})", fault.describe(&walls.walls), substep + 1);
+                    return Err(SolverError::Diverged { step: ctx.step, time, what });
+                }
+            };
+            self.arrays.store(&mut particles.particles);
+            particles.counts.impacts += impacts[logged_before..].iter().filter(|i| !i.sliding).count() as u64;
+            particles.impacts = std::mem::take(&mut impacts);
+            self.budget.check(ctx, &particles.particles, totals.elastic, elastic_start, self.setup.section.collision_speed)?;
+            self.fed_from = particles.next_id;
+            self.store_history(particles, team);
+            Ok(totals)
+        })?;
         report.values.extend([
             ("substeps", n as f64),
             ("contacts", totals.contacts as f64),

@@ -499,7 +499,7 @@ mod tests {
             pool.install(|| {
                 let mut list = NeighbourList::default();
                 list.skin = 0.001;
-                list.build(&arrays, &materials, History::Records(&[]));
+                with_team(|team| list.build(&arrays, &materials, History::Records(&[]), team));
                 let third = list.pairs.len() / 3;
                 list.segments.plan_with(&list.pairs, arrays.len(), segments, 4, |i| if skewed && i < third { 5.0 } else { 1.0 });
                 if skewed {

@@ -2,8 +2,8 @@
 //! without allocation"), on one thread and on two: pairs, walls, the pass, the segments'
 //! balance and the team's parts, counted by the tests' allocator
 //! ([`crate::counting_allocator`]). A sub-step that builds a new neighbour list is left out (a
-//! build, every hundred sub-steps or so in a settling bed, gathers the pairs in per-job buffers
-//! of rayon's), and so is one that cuts the segments anew (it sizes the buffers of the
+//! build, every hundred sub-steps or so in a settling bed, may grow its pieces' buffers and the
+//! list's arrays), and so is one that cuts the segments anew (it sizes the buffers of the
 //! contributions set aside for the cuts). A particle's per-wall buffers (its near triangles, its contact history) grow at
 //! its first approach to a wall, which the warm-up covers.
 //!
