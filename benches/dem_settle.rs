@@ -4,9 +4,9 @@
 //! particle sub-steps per second over the case's run after its first step (950 of its 1 000
 //! sub-steps; the reference DEM over 100 at 10⁴): the fast DEM on 1 and 2 threads, the
 //! reference DEM on 1, all measured in one run. One and two threads take turns, [`ROUNDS`]
-//! times, each from the bed's start, and the ratio is the median of the rounds' ratios: the machine's speed moves by a
-//! third from hour to hour (README, *Where it stands*), and one stretch of each had compared two
-//! speeds of the machine as often as two thread counts.
+//! times, each from the bed's start, and the ratio is the median of the rounds' ratios: the
+//! machine's speed moves by a third from hour to hour (README, *Where it stands*), and one
+//! stretch of each had compared two speeds of the machine as often as two thread counts.
 //!
 //! `cargo bench --bench dem_settle` prints the rates and ratios and writes them to
 //! `target/spillage-bench/dem_settle.json`; LIGGGHTS' rate on the same bed comes from
