@@ -193,7 +193,9 @@ impl NeighbourList {
     /// What the touching pairs of the last evaluation add up to (measured when it was asked
     /// for their energies), for the energy guard: summed in pieces of [`PAIR_PIECE`] pairs on
     /// `team` and the pieces' sums added in piece order, the same bits on any number of
-    /// threads. `pieces` is a buffer kept between calls (no sub-step allocates).
+    /// threads (a sum over the whole list in one loop differs in its last bits: only the
+    /// guard's margin reads them). `pieces` is a buffer kept between calls (no sub-step
+    /// allocates).
     pub fn touching_totals(&self, radius: &[f64], pieces: &mut Vec<TouchingTotals>, team: &Team) -> TouchingTotals {
         let len = self.pairs.len();
         let n_pieces = len.div_ceil(PAIR_PIECE);

@@ -105,6 +105,40 @@ fn a_forged_payload_with_a_nan_time_is_refused_before_any_step() {
     assert!(err.contains("cannot be continued"), "{err}");
 }
 
+/// A contact history out of order (or with a contact twice) is refused, naming the two
+/// contacts: the DEM phases walk it in order, and a new neighbour list's pieces start their
+/// walks by bisection, which an unsorted history would misdirect.
+#[test]
+fn a_contact_history_out_of_order_is_refused_naming_the_contacts() {
+    let case = demo();
+    let mut state = sample();
+    crate::particles::dem_setup::DemSetup::new(&case, &mut state).unwrap();
+    let contact = |particle: u64, partner: u64| crate::particles::ContactRecord {
+        particle,
+        partner: crate::particles::Partner::Particle(partner),
+        tangential_overlap: Default::default(),
+        damping_ratio: 0.1,
+        approach_speed: 0.5,
+        normal: crate::particles::state::Vec3::x(),
+        start_time: 0.0,
+        restitution: 0.5,
+        normal_impulse: 0.0,
+    };
+    let path = tmp("unsorted-contacts");
+    for (contacts, listed) in [
+        (vec![contact(2, 5), contact(1, 7)], "particle 2 with Particle(5) before particle 1 with Particle(7)"),
+        (vec![contact(1, 3), contact(1, 3)], "particle 1 with Particle(3) before particle 1 with Particle(3)"),
+    ] {
+        state.particles.as_mut().expect("the pour's particles").contacts = contacts;
+        write(&path, &case, &state).unwrap();
+        let err = read(&path, &case).unwrap_err().to_string();
+        assert!(err.contains(listed) && err.contains("sorted by particle, then partner"), "{err}");
+    }
+    state.particles.as_mut().unwrap().contacts = vec![contact(1, 3), contact(1, 7), contact(2, 5)];
+    write(&path, &case, &state).unwrap();
+    read(&path, &case).unwrap();
+}
+
 /// Issue 14 item 2: a damaged checkpoint printed binary payload bytes as "the case name".
 #[test]
 fn a_damaged_header_never_prints_binary_bytes() {

@@ -127,6 +127,14 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
                 }
             }
         }
+        // the DEM phases walk the history in this order (a new neighbour list's pieces start
+        // their walks by bisection), and a pair's or wall's contact is kept once
+        if let Some(w) = p.contacts.windows(2).find(|w| (w[0].particle, w[0].partner) >= (w[1].particle, w[1].partner)) {
+            return Err(format!(
+                "the contact history lists particle {} with {:?} before particle {} with {:?}: expected each contact once, sorted by particle, then partner",
+                w[0].particle, w[0].partner, w[1].particle, w[1].partner
+            ));
+        }
         if let Some(e) = p.exits.iter().find(|e| !(e.time.is_finite() && e.position.iter().chain(&e.velocity).all(|x| x.is_finite()))) {
             return Err(format!("the exit record of particle {} holds a non-finite value", e.particle));
         }

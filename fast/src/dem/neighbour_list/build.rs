@@ -38,6 +38,13 @@ impl NeighbourList {
     pub fn build(&mut self, arrays: &ParticleArrays, materials: &MaterialTable, history: History, team: &Team) {
         self.builds += 1;
         let n = arrays.len();
+        // until the build ends the list is stale (a build cut short leaves no list that looks
+        // whole)
+        let previous_valid = self.built_at.len() == n;
+        self.built_at.clear();
+        if let History::Records(records) = history {
+            debug_assert!(records.is_sorted_by_key(|r| (r.particle, r.partner)), "the state's contact history is sorted (checkpoint validation)");
+        }
         let d_max = arrays.diameter.iter().copied().fold(0.0, f64::max);
         let grid = Grid::spanning(arrays.position.iter().copied(), d_max + self.skin);
         self.sorted_cells.clear();
@@ -96,7 +103,6 @@ impl NeighbourList {
         // the previous list, built for these particles, by ids), so each piece finds its pairs'
         // by walking that list beside its pairs from where its first pair's would be, not by a
         // search per pair; and each piece interns the constants its pairs meet
-        let previous_valid = self.built_at.len() == n;
         let (previous_pairs, previous_touch, previous_records) = (&self.previous_pairs, &self.previous_touch, &self.previous_records);
         let (offsets, pieces) = (&self.offsets, DisjointSlices::new(&mut self.pieces[..n_pieces]));
         // the pieces write every entry of the list's arrays into their emptied room (filled
@@ -148,8 +154,8 @@ impl NeighbourList {
                 };
                 pairs[i].write(Pair { a, b, constants });
                 let (record, touch) = match (history, source) {
-                    (History::Records(records), Some(r)) => {
-                        let r = &records[r];
+                    (History::Records(state_records), Some(r)) => {
+                        let r = &state_records[r];
                         (Some(r.clone()), Touch::touching(r.tangential_overlap, r.damping_ratio))
                     }
                     (History::Previous, Some(s)) => (previous_records[s].clone(), previous_touch[s]),
@@ -199,7 +205,6 @@ impl NeighbourList {
             });
         }
         self.segments.plan(&self.pairs, &self.touch, n, rayon::current_num_threads());
-        self.built_at.clear();
         self.built_at.extend_from_slice(&arrays.position);
     }
 }
@@ -371,14 +376,14 @@ mod tests {
 
     /// A build gives the same list on one thread and on three, whichever thread runs which
     /// piece: the pairs, their constants (a cloud of many sizes, where each piece meets
-    /// constants of its own and they are renumbered into the list's), and the histories, taken
-    /// from the state's records and then from the previous list.
+    /// constants of its own and they are renumbered into the list's, in the order the list
+    /// first meets them), and the histories, taken from the state's records and then, after
+    /// some particles moved, from the previous list; each pair's constants and history are its
+    /// own.
     #[test]
     fn a_build_is_the_same_on_any_number_of_threads() {
         let particles = cloud(1500, 5, 0.4);
-        let mut arrays = ParticleArrays::default();
         let skin = 0.01;
-        arrays.load(&particles, 0.1 + skin);
         // a history for every third touching pair, in the state's order
         let mut records = Vec::new();
         for (i, p) in particles.iter().enumerate() {
@@ -397,24 +402,36 @@ mod tests {
             }
         }
         records.sort_by_key(|r| (r.particle, r.partner));
+        let own = |list: &NeighbourList, arrays: &ParticleArrays| {
+            let mut next_new = 0;
+            for (pair, record) in list.pairs.iter().zip(&list.records) {
+                let (a, b) = (pair.a as usize, pair.b as usize);
+                let constants = rock().constants(arrays.material[a], arrays.material[b], arrays.radius[a], arrays.radius[b], arrays.mass[a], arrays.mass[b]);
+                assert_eq!(list.constants[pair.constants as usize], constants, "pair {a}-{b}'s constants");
+                assert!(pair.constants <= next_new, "constants out of the order of first appearance");
+                next_new += u32::from(pair.constants == next_new);
+                assert!(record.as_ref().is_none_or(|r| (r.particle, r.partner) == (arrays.id[a], Partner::Particle(arrays.id[b]))));
+            }
+            assert_eq!(next_new as usize, list.constants.len());
+            format!("{:?} {:?} {:?} {:?}", list.pairs, list.constants, list.touch, list.records)
+        };
         let lists = [1, 3].map(|threads| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pool.install(|| {
+                let mut arrays = ParticleArrays::default();
+                arrays.load(&particles, 0.1 + skin);
                 let mut list = NeighbourList { skin, ..Default::default() };
                 with_team(|team| {
                     list.build(&arrays, &rock(), History::Records(&records), team);
-                    // each pair's constants are its own, and its history, if any, is its own
-                    for (pair, record) in list.pairs.iter().zip(&list.records) {
-                        let (a, b) = (pair.a as usize, pair.b as usize);
-                        let own = rock().constants(arrays.material[a], arrays.material[b], arrays.radius[a], arrays.radius[b], arrays.mass[a], arrays.mass[b]);
-                        assert_eq!(list.constants[pair.constants as usize], own, "{threads} threads: pair {a}-{b}'s constants");
-                        assert!(record.as_ref().is_none_or(|r| (r.particle, r.partner) == (arrays.id[a], Partner::Particle(arrays.id[b]))));
-                    }
-                    let first = format!("{:?} {:?} {:?} {:?}", list.pairs, list.constants, list.touch, list.records);
+                    let first = own(&list, &arrays);
                     let carried = list.records.iter().flatten().count();
+                    // every seventh particle moves by half the skin: the touching pairs stay listed
+                    for k in (0..arrays.len()).step_by(7) {
+                        arrays.position[k].x += 0.5 * skin;
+                    }
                     list.build(&arrays, &rock(), History::Previous, team);
                     assert_eq!(list.records.iter().flatten().count(), carried, "{threads} threads: the previous list's histories carried over");
-                    (first, format!("{:?} {:?} {:?} {:?}", list.pairs, list.constants, list.touch, list.records), carried, list.constants.len())
+                    (first, own(&list, &arrays), carried, list.constants.len())
                 })
             })
         });
