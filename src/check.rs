@@ -186,6 +186,7 @@ fn head_lines(case: &Case) -> Vec<String> {
         ),
     ];
     lines.push(haul_line(head, omega * r_c));
+    lines.push(format!("             {}", spillage_model::cutter_head::ladder::LadderTilt::of(case.physics.gravity).describe()));
     let points = head.contour.iter().map(|p| ProfilePoint { axial_distance: p[0], radius: p[1], blade_angle: p[2].to_radians() }).collect();
     if let Ok(profile) = CutterProfile::new(points) {
         if let Ok(sol) = solve(&SpillageInputs::calibrated_water(profile, rpm, head.suction_discharge)) {

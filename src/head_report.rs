@@ -130,9 +130,10 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         if counts.spilled > 0 {
             let top_share = bins[0].1 as f64 / counts.spilled as f64;
             lines.push(format!(
-                "where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv)",
+                "where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv; gravity pulls {})",
                 100.0 * top_share,
-                100.0 * EXIT_BIN
+                100.0 * EXIT_BIN,
+                spillage_model::cutter_head::ladder::LadderTilt::of(case.physics.gravity).pull_name()
             ));
             // a bar outline: count against the bin's height, the ring at the top (z = 0)
             let outline: Vec<(f64, f64)> = bins.iter().flat_map(|(top, n)| [(*n as f64, top * 100.0), (*n as f64, (top - EXIT_BIN) * 100.0)]).collect();

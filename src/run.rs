@@ -126,6 +126,8 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if let Some(head) = &case.cutter_head {
         // the current past the head (cutter_head::current), [0, 0, 0] in still water
         summary.set_detail("haul_velocity", serde_json::to_value(head.haul_velocity)?);
+        // which way gravity pulls along the axis decides where the rock leaves (cutter_head::ladder)
+        summary.set_detail("gravity_axial_pull", spillage_model::cutter_head::ladder::LadderTilt::of(case.physics.gravity).pull_name());
     }
     if let Some(path) = &opts.restart {
         summary.set_detail("restarted_from", path.display().to_string());

@@ -513,3 +513,31 @@ fn particles_carried_to_the_tank_wall_are_spilled_not_lost() {
         assert!((0..3).all(|k| (e.position[k] - p[k]).abs() < 0.01), "{e:?} from {p:?}");
     }
 }
+
+/// Every shipped head case says which way gravity pulls along its axis, and all pull as the
+/// default: toward the ring, the thesis' reading (model::cutter_head::ladder; README, "Which
+/// way the ladder leans"); the dredger's way round, the hub lowest, is named as such.
+#[test]
+fn check_names_which_way_gravity_pulls_along_the_axis() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let check = |path: &Path| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_spillage")).args(["check", path.to_str().unwrap()]).output().unwrap();
+        assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let ring = "45.0° from the axis +z (hub → ring), its axial part toward the ring: the ring lies lowest";
+    for name in
+        ["cutter_head.toml", "cutter_head_converged.toml", "cutter_head_eccentric.toml", "cutter_head_feed.toml", "verification/cutter_head/flow_60rpm.toml"]
+    {
+        let text = check(&root.join("cases").join(name));
+        assert!(text.contains(ring), "{name}:\n{text}");
+    }
+    let shipped = std::fs::read_to_string(root.join("cases/cutter_head.toml")).unwrap();
+    let dredger = shipped.replacen("gravity = [-6.936718, 0.0, 6.936718]", "gravity = [-6.936718, 0.0, -6.936718]", 1);
+    assert_ne!(dredger, shipped);
+    let path = std::env::temp_dir().join(format!("spillage-hub-lowest-{}.toml", std::process::id()));
+    std::fs::write(&path, dredger).unwrap();
+    let text = check(&path);
+    assert!(text.contains("135.0° from the axis +z (hub → ring), its axial part toward the hub: the hub lies lowest"), "{text}");
+    let _ = std::fs::remove_file(&path);
+}

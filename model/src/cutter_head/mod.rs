@@ -4,8 +4,8 @@
 //! bookkeeping (the contour hull, the suction pipe, [`spillage`]), the fluxes through the hull
 //! ([`fluxes`]: the solver's face fluxes and the thesis' interpolated surface, [`hull_surface`]),
 //! the rotor's torque balance on the computed flow ([`torque`]), the haul velocity, a current
-//! past the head ([`current`]), and the thesis' eccentric suction mouth at rest in a back plate
-//! ([`mouth`]).
+//! past the head ([`current`]), the thesis' eccentric suction mouth at rest in a back plate
+//! ([`mouth`]), and which way gravity pulls along the axis ([`ladder`]).
 //! spillage-and-flow-verification.md §2, §4, §5.
 
 pub mod current;
@@ -13,6 +13,7 @@ pub mod fluid_mesh;
 pub mod fluxes;
 pub mod geometry;
 pub mod hull_surface;
+pub mod ladder;
 pub mod mouth;
 pub mod settings;
 pub mod spillage;
