@@ -130,7 +130,7 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         if counts.spilled > 0 {
             let top_share = bins[0].1 as f64 / counts.spilled as f64;
             lines.push(format!(
-                "where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (spillage_heights.csv; gravity pulls {})",
+                "where             {:.0} % of the spilled particles left 0–{:.0} cm under the ring (axially, toward the hub; spillage_heights.csv; gravity pulls {})",
                 100.0 * top_share,
                 100.0 * EXIT_BIN,
                 spillage_model::cutter_head::ladder::LadderTilt::of(case.physics.gravity).pull_name()

@@ -525,7 +525,7 @@ fn check_names_which_way_gravity_pulls_along_the_axis() {
         assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
         String::from_utf8_lossy(&out.stdout).into_owned()
     };
-    let ring = "45.0° from the axis +z (hub → ring), its axial part toward the ring: the ring lies lowest";
+    let ring = "ladder angle 45.0° (45.0° from the axis +z, hub → ring): its axial part pulls toward the ring, which lies lowest";
     for name in
         ["cutter_head.toml", "cutter_head_converged.toml", "cutter_head_eccentric.toml", "cutter_head_feed.toml", "verification/cutter_head/flow_60rpm.toml"]
     {
@@ -538,6 +538,6 @@ fn check_names_which_way_gravity_pulls_along_the_axis() {
     let path = std::env::temp_dir().join(format!("spillage-hub-lowest-{}.toml", std::process::id()));
     std::fs::write(&path, dredger).unwrap();
     let text = check(&path);
-    assert!(text.contains("135.0° from the axis +z (hub → ring), its axial part toward the hub: the hub lies lowest"), "{text}");
+    assert!(text.contains("ladder angle 45.0° (135.0° from the axis +z, hub → ring): its axial part pulls toward the hub, which lies lowest"), "{text}");
     let _ = std::fs::remove_file(&path);
 }
