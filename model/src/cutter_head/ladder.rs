@@ -13,7 +13,7 @@
 /// Where gravity's component along the head's axis pulls.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AxialPull {
-    /// +z: the ring lies lowest (the literal reading of the thesis' tilt).
+    /// +z: the ring lies lowest (the thesis' tilt taken from the rotation vector).
     TowardRing,
     /// −z: the hub lies lowest (a dredger's ladder).
     TowardHub,
