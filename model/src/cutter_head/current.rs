@@ -6,9 +6,10 @@
 //! water's velocity relative to the head, U = −v_swing. With gravity tilted in the x–z plane by
 //! the ladder angle, "up" is toward +x (and toward the hub, −z, in the shipped cases, whose ring
 //! lies lowest; toward the ring, +z, with a dredger's hub lowest: `ladder`), the head's top is on
-//! the +x side and the swing is horizontal and normal to the ladder: along ±y. A head turning with positive ω moves its top
-//! along +y, so U along −y (the head swings along +y, with its top) is over-cutting and U
-//! along +y is under-cutting (§1.3). U has no z component: the tank's end beyond the ring (`top`) is a lid.
+//! the +x side and the swing is horizontal and normal to the ladder: along ±y. A head turning
+//! with positive ω moves its top along +y, so U along −y (the head swings along +y, with its top)
+//! is over-cutting and U along +y is under-cutting (§1.3). U has no z component: the tank's end
+//! beyond the ring (`top`) is a lid.
 //!
 //! **Far field.** Open water around a swinging head is unbounded; the mesh ends at the tank. The
 //! tank's side (r = R_T) and its floor get the current as a fixed velocity (Dirichlet, a
