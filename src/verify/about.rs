@@ -168,6 +168,14 @@ const ABOUT: &[(&str, About)] = &[
         ),
     ),
     (
+        "cutter_head_twenty_rpm",
+        a(
+            "water through the case's head at 20 rpm with its own suction, the thesis' eccentric mouth at rest, and axial suction: the mean flow through the contour at fixed places (maps with `--plots`)",
+            "thesis CFD: the axial head draws water in over its whole contour at 20 rpm; the back-plate head lets water out already, far from its mouth (Fig. 8.2)",
+            "spillage-and-flow-verification.md §5.2",
+        ),
+    ),
+    (
         "wear_stream",
         a(
             "a stream of particles against a plate at impact angles 15–90°: removed volume per particle mass and the volume bookkeeping of smoothing and recession",

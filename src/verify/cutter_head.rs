@@ -19,12 +19,14 @@ use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::step::Coupled;
 
+use super::contour_map::ContourMeanFlow;
 use super::figures::{draw, Axes, Curve};
 use super::CheckRow;
+use spillage_model::cutter_head::spillage::EXIT_BIN;
 use std::path::Path;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] = &["cutter_head_flow"];
+pub const CHECKS: &[&str] = &["cutter_head_flow", "cutter_head_twenty_rpm"];
 
 const SOLVER: &str = "fast";
 
@@ -33,12 +35,14 @@ const SOLVER: &str = "fast";
 pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     match check {
         "cutter_head_flow" => flow(case, full, plots),
+        // check 2's contrast alone (also part of `cutter_head_flow --full`)
+        "cutter_head_twenty_rpm" => twenty_rpm(case, plots),
         other => bail!("unknown cutter-head check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
 
 /// Means over the last revolution of a fluid-only run of `case` to its end time.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct HeadMeans {
     /// Out-flowing and net flux through the face hull [m³/s].
     pub outflow: f64,
@@ -58,11 +62,17 @@ pub struct HeadMeans {
     pub mouth_flux: f64,
     /// The hull's wall torque (the rotor's faces bounding the hull's cells) [N m].
     pub hull_wall_torque: f64,
+    /// The mean flow through the contour at fixed places in the laboratory.
+    pub contour_mean_flow: ContourMeanFlow,
 }
 
 /// Mean out-flowing flux, net hull flux and torque terms over the last revolution of a
 /// fluid-only run of `case` to its end time (time-weighted: the adaptive step is not uniform).
+/// A case with rock runs its water alone: the thesis' flux checks are of water (§5.2), and the
+/// Euler-turbine model it is compared with has no rock in its Q₁.
 pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
+    let water = with(case, |c| (c.particles, c.coupling, c.wear) = (None, None, None))?;
+    let case = &water;
     let mut state = State::default();
     let fluid = FastFluid::new(case, super::fluid::build_mesh(case)?, &mut state)?;
     let mut run = Coupled::fluid_only(case, state, fluid)?;
@@ -83,6 +93,7 @@ pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
         "hull_wall_torque",
     ];
     let (mut sums, mut abs_imbalance, mut weight) = ([0.0; COLUMNS.len()], 0.0, 0.0);
+    let mut contour_mean_flow = ContourMeanFlow::new(&run.cutter_head().ok_or_else(|| anyhow!("{}: no cutter head", case.path.display()))?.1.surface);
     while !spillage_model::step::reached_end_time(run.state().time, end) {
         let report = run.step()?;
         let value = |name: &str| report.values.iter().find(|(n, _)| *n == name).map(|v| v.1).ok_or_else(|| anyhow!("no `{name}` in the step report"));
@@ -93,6 +104,9 @@ pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
             }
             abs_imbalance += value("torque_imbalance")?.abs() * dt;
             weight += dt;
+            let (mesh, fluid) = (run.mesh().expect("a fluid run"), run.state().fluid.as_ref().expect("a fluid run"));
+            let fluxes = run.cutter_head().expect("checked above").1.laboratory_contour_fluxes(mesh, fluid, run.rotor().as_ref());
+            contour_mean_flow.add(&fluxes, dt);
         }
     }
     if weight == 0.0 {
@@ -114,8 +128,12 @@ pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
         hull_flux: m[7],
         mouth_flux: m[8],
         hull_wall_torque: m[9],
+        contour_mean_flow,
     };
-    eprintln!("{}: torque terms over the last revolution: {means:?}", case.case.name);
+    eprintln!(
+        "{}: torque terms over the last revolution: head {:.2}, imbalance {:.2} (hull {:.2}), out through hull {:.2}, mouth {:.2}, hull walls {:.2} N m",
+        case.case.name, means.head_torque, means.imbalance, means.hull_imbalance, means.hull_flux, means.mouth_flux, means.hull_wall_torque
+    );
     Ok(means)
 }
 
@@ -152,6 +170,17 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
             0.065,
         ),
     ];
+    // where the mean flow leaves (verify::contour_map): the thesis' Q_out is the mean of
+    // Eq. 8.4 per sample (the rows above); this one leaves out the water each blade pushes out
+    // ahead of it and draws back behind it, and is reported beside it
+    let (mean_flow_out, _) = means.contour_mean_flow.outflow();
+    rows.push(CheckRow::at_most(name, "out-flowing flux of the mean flow through the contour / Q_m (reported)", SOLVER, mean_flow_out / q_m, f64::INFINITY));
+    if let Some(dir) = plots {
+        means.contour_mean_flow.draw(dir, &format!("{name}_contour_mean_flow"), &format!("{name}: mean flow through the contour"))?;
+    }
+    if let (Some(mouth), Some(centre)) = (head.eccentric_mouth(), means.contour_mean_flow.inflow_centre()) {
+        rows.push(inflow_centre_row(case, mouth.angle, centre));
+    }
     // Check 3, the rotor's torque balance (spillage_model::cutter_head::torque): the head's
     // torque against what the water's angular momentum does, over the last revolution. A
     // collocated finite-volume scheme conserves linear momentum to solver tolerance but angular
@@ -187,7 +216,7 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
         means.hull_imbalance.abs() / means.head_torque.abs(),
         f64::INFINITY,
     ));
-    let rpm_case = case.rotor.as_ref().map_or(f64::NAN, |r| r.angular_velocity().abs() * 60.0 / std::f64::consts::TAU);
+    let rpm_case = rpm(case);
     let mut computed = vec![(rpm_case, outflow)];
     if full {
         computed.clear();
@@ -229,7 +258,7 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
         }
     }
     if full {
-        rows.extend(twenty_rpm(case)?);
+        rows.extend(twenty_rpm(case, plots)?);
     }
     if plots.is_some() {
         let model =
@@ -262,25 +291,58 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
 /// §5.1; ours by 2.4 % at 5 cm cells).
 const NEGLIGIBLE_OUTFLOW: f64 = 0.05;
 
+/// The rotor's speed [rpm] (NaN without a rotor).
+fn rpm(case: &Case) -> f64 {
+    case.rotor.as_ref().map_or(f64::NAN, |r| r.angular_velocity().abs() * 60.0 / std::f64::consts::TAU)
+}
+
+/// Where the water enters closest to the ring of a head with an eccentric mouth at `mouth_angle`
+/// [rad]: the mean inflow's centre `centre` [rad] ([`ContourMeanFlow::inflow_centre`]) from the
+/// mouth, positive in the direction of rotation. With the mouth facing the bed, as the thesis'
+/// and [`THESIS_MOUTH`] do, that is toward the under-cut side: in under-cutting the blades rise
+/// through the bank, so they turn from the bed toward it. The thesis puts the centre 30°–45°
+/// toward the under-cut side at 60 rpm (§5.2), which the row holds at 60 rpm and reports at
+/// others.
+fn inflow_centre_row(case: &Case, mouth_angle: f64, centre: f64) -> CheckRow {
+    let rotor = case.rotor.as_ref().expect("validated with [cutter_head]");
+    // the axis is +z (validated with [cutter_head]); azimuths turn about +z
+    let turned = rotor.angular_velocity().signum() * (centre - mouth_angle);
+    let degrees = turned.sin().atan2(turned.cos()).to_degrees();
+    let rpm = rpm(case);
+    let what = "centre of the mean inflow's reach toward the ring, from the mouth in the direction of rotation [°]";
+    if (rpm - 60.0).abs() < 1e-9 {
+        CheckRow::absolute(&case.case.name, format!("{what} (thesis at 60 rpm: 30–45, toward the under-cut side)"), SOLVER, degrees, 37.5, 7.5)
+    } else {
+        CheckRow::at_most(&case.case.name, format!("{what} at {rpm:.0} rpm (reported; the thesis gives 60 rpm)"), SOLVER, degrees, f64::INFINITY)
+    }
+}
+
 /// The thesis' back-plate head's mouth as `cases/cutter_head_eccentric.toml` has it: a 103° kidney
 /// between 0.07 and 0.2 m (0.0316 m², §2.11) at rest, facing the bed (azimuth 180°).
 const THESIS_MOUTH: spillage_model::cutter_head::Suction = spillage_model::cutter_head::Suction::Eccentric { angle: 180.0, width: 103.0, radii: [0.07, 0.2] };
 
 /// Check 2's second half (§5.2): at 20 rpm the axial head draws water in over its whole contour
-/// (negligible outflow) while the back-plate head already spills water: the case's own suction,
-/// and the thesis' eccentric mouth at rest ([`THESIS_MOUTH`]) unless the case has it already.
-fn twenty_rpm(case: &Case) -> Result<Vec<CheckRow>> {
+/// while the back-plate head already lets water out far from its mouth: the case's own
+/// suction, and the thesis' eccentric mouth at rest ([`THESIS_MOUTH`]) unless the case has it
+/// already. Each head is held to it on two measures: the thesis' Q_out (the mean of Eq. 8.4 per
+/// step, its Fig. 8.1, which also counts the water each passing blade pushes out ahead of it
+/// and draws back behind it), and Q_out of the mean flow through places fixed in the laboratory
+/// ([`ContourMeanFlow`], where the thesis' words about in- and outflow over the contour point).
+/// The second is never the larger, so it favours the axial half and is harder on the other.
+/// With `plots`, a map of the mean outward velocity over the contour per head,
+/// `<case>_20rpm_{back_plate,eccentric_mouth,axial}.png` with its `.csv`.
+fn twenty_rpm(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     use spillage_model::cutter_head::Suction;
     let name = &case.case.name;
     let head = case.cutter_head.as_ref().ok_or_else(|| anyhow!("{name}: check 2 needs [cutter_head]"))?;
     let q_m = head.suction_discharge;
-    let mut heads = vec![("back-plate", None)];
+    let mut heads = vec![("back-plate", "back_plate", None)];
     if !matches!(head.suction, Suction::Eccentric { .. }) {
-        heads.push(("back-plate with the eccentric mouth at rest", Some(THESIS_MOUTH)));
+        heads.push(("back-plate with the eccentric mouth at rest", "eccentric_mouth", Some(THESIS_MOUTH)));
     }
-    heads.push(("axial", Some(Suction::Axial)));
+    heads.push(("axial", "axial", Some(Suction::Axial)));
     let mut rows = Vec::new();
-    for (label, suction) in heads {
+    for (label, file, suction) in heads {
         let axial = suction == Some(Suction::Axial);
         let c = with(case, |c| {
             let rotor = c.rotor.as_mut().expect("validated");
@@ -290,25 +352,31 @@ fn twenty_rpm(case: &Case) -> Result<Vec<CheckRow>> {
             }
         })?;
         let means = mean_fluxes(&c)?;
-        let ratio = means.contour_outflow / q_m;
-        eprintln!("{name}: {label} head at 20 rpm: contour outflow {:.5} m³/s ({ratio:.3} Q_m), face hull {:.5}", means.contour_outflow, means.outflow);
-        rows.push(if axial {
-            CheckRow::at_most(
-                name,
-                "axial head at 20 rpm: out-flowing flux through the contour / Q_m (thesis: inflow over the whole contour)",
-                SOLVER,
-                ratio,
-                NEGLIGIBLE_OUTFLOW,
-            )
-        } else {
-            CheckRow::at_least(
-                name,
-                format!("{label} head at 20 rpm: out-flowing flux through the contour / Q_m (thesis: outflow already)"),
-                SOLVER,
-                ratio,
-                NEGLIGIBLE_OUTFLOW,
-            )
-        });
+        let mean_flow = &means.contour_mean_flow;
+        let (outflow, top) = mean_flow.outflow();
+        let ratio = outflow / q_m;
+        eprintln!(
+            "{name}: {label} head at 20 rpm: mean flow out through the contour {outflow:.5} m³/s ({ratio:.3} Q_m; {top:.5} m³/s in the top {} cm; through {:.1} % of its area); mean of the out-flowing flux {:.5} m³/s ({:.3} Q_m), face hull {:.5}",
+            100.0 * EXIT_BIN,
+            100.0 * mean_flow.outflow_area_fraction(),
+            means.contour_outflow,
+            means.contour_outflow / q_m,
+            means.outflow
+        );
+        if let Some(dir) = plots {
+            mean_flow.draw(dir, &format!("{name}_20rpm_{file}"), &format!("{name}, {}, 20 rpm: mean flow through the contour", file.replace('_', " ")))?;
+        }
+        if let (Some(mouth), Some(centre)) = (c.cutter_head.as_ref().and_then(|h| h.eccentric_mouth()), mean_flow.inflow_centre()) {
+            rows.push(inflow_centre_row(&c, mouth.angle, centre));
+        }
+        for (measure, value) in [("mean of Eq. 8.4", means.contour_outflow / q_m), ("of the mean flow", ratio)] {
+            let what = |thesis: &str| format!("{label} head at 20 rpm: out-flowing flux through the contour / Q_m, {measure} ({thesis})");
+            rows.push(if axial {
+                CheckRow::at_most(name, what("thesis: inflow over the whole contour"), SOLVER, value, NEGLIGIBLE_OUTFLOW)
+            } else {
+                CheckRow::at_least(name, what("thesis: outflow already, far from the mouth"), SOLVER, value, NEGLIGIBLE_OUTFLOW)
+            });
+        }
     }
     Ok(rows)
 }

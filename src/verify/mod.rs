@@ -5,6 +5,7 @@
 //! (`fluid`, `dem`, …). The solvers never know they are being verified.
 
 pub mod about;
+pub mod contour_map;
 pub mod coupling;
 pub mod cutter_head;
 pub mod dem;

@@ -10,7 +10,7 @@ use crate::case::Case;
 use crate::fluid::conditions::Conditions;
 use crate::fluid::state::FluidState;
 use crate::fluid::velocity_gradient::{boundary_velocities, gauss_velocity_gradient};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Vec3};
 use crate::solver::StepReport;
 use crate::step::RotorPose;
 
@@ -41,10 +41,7 @@ impl HeadFluxes {
     /// Appends the fluxes of `fluid` (at the end of a step, `mesh` and `pose` at its time).
     pub fn report(&self, head: &CutterHead, mesh: &Mesh, fluid: &FluidState, pose: Option<&RotorPose>, report: &mut StepReport) {
         let q = self.faces.flux(&fluid.flux);
-        let conditions = self.conditions.with_solved_suction(mesh, &fluid.flux);
-        let boundary_u = boundary_velocities(mesh, &conditions, &fluid.velocity, pose);
-        let grad = gauss_velocity_gradient(mesh, &fluid.velocity, |f, _| Some(boundary_u[f - mesh.n_internal_faces]));
-        let s = self.surface.flux(mesh, &fluid.velocity, &grad);
+        let s = self.surface.flux(mesh, &fluid.velocity, &self.velocity_gradient(mesh, fluid, pose));
         report.values.extend([
             ("hull_outflow", q.outflow),
             ("hull_net_flux", q.net),
@@ -55,5 +52,19 @@ impl HeadFluxes {
             ("contour_net_flux", s.net),
             ("contour_outflow_top", s.outflow_top_bin),
         ]);
+    }
+
+    /// The contour surface's fluxes per element fixed in the laboratory
+    /// ([`HullSurface::laboratory_fluxes`]), for time means of the flow through fixed places.
+    pub fn laboratory_contour_fluxes(&self, mesh: &Mesh, fluid: &FluidState, pose: Option<&RotorPose>) -> Vec<f64> {
+        self.surface.laboratory_fluxes(mesh, &fluid.velocity, &self.velocity_gradient(mesh, fluid, pose))
+    }
+
+    /// The cells' Gauss velocity gradients with the assembly's boundary values (the blades'
+    /// faces bring the rotor's velocity), which the contour's interpolation takes.
+    fn velocity_gradient(&self, mesh: &Mesh, fluid: &FluidState, pose: Option<&RotorPose>) -> Vec<[Vec3; 3]> {
+        let conditions = self.conditions.with_solved_suction(mesh, &fluid.flux);
+        let boundary_u = boundary_velocities(mesh, &conditions, &fluid.velocity, pose);
+        gauss_velocity_gradient(mesh, &fluid.velocity, |f, _| Some(boundary_u[f - mesh.n_internal_faces]))
     }
 }

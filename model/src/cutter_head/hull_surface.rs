@@ -63,18 +63,57 @@ pub struct HullSurface {
     heights: Vec<f64>,
     /// The rotor zone (whose rotation carries the points).
     zone: usize,
+    /// Points per ring around the axis: point i lies on ring i / n_theta at azimuth
+    /// (i mod n_theta + ½) Δθ in the reference pose.
+    n_theta: usize,
 }
 
-/// Rotation of `x` about the zone's axis by its angle (Rodrigues), as a vector (no origin
-/// shift) when `vector`.
+/// One element of the contour fixed in the laboratory ([`HullSurface::laboratory_elements`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaboratoryElement {
+    /// Height [m] (the ring at 0) and radius [m] of its midpoint.
+    pub z: f64,
+    pub radius: f64,
+    /// Azimuth of its midpoint about +z from +x [rad], in 0…2π.
+    pub azimuth: f64,
+    /// Outward area vector [m²].
+    pub area: Vec3,
+}
+
+/// A zone's rotation about its axis by its angle (Rodrigues), its sine and cosine taken once.
+struct Turning<'a> {
+    rotation: &'a ZoneRotation,
+    sin: f64,
+    cos: f64,
+}
+
+impl<'a> Turning<'a> {
+    fn new(rotation: &'a ZoneRotation) -> Self {
+        let (sin, cos) = rotation.angle.sin_cos();
+        Turning { rotation, sin, cos }
+    }
+
+    /// A vector turned (no origin shift).
+    fn vector(&self, v: &Vec3) -> Vec3 {
+        let a = self.rotation.axis;
+        v * self.cos + a.cross(v) * self.sin + a * (a.dot(v) * (1.0 - self.cos))
+    }
+
+    /// A point turned about the axis through the zone's origin.
+    fn point(&self, x: &Vec3) -> Vec3 {
+        self.vector(&(x - self.rotation.origin)) + self.rotation.origin
+    }
+}
+
+/// Rotation of `x` about the zone's axis by its angle, as a vector (no origin shift) when
+/// `vector`.
+#[cfg(test)]
 fn turn(rotation: &ZoneRotation, x: &Vec3, vector: bool) -> Vec3 {
-    let (a, (s, c)) = (rotation.axis, rotation.angle.sin_cos());
-    let v = if vector { *x } else { x - rotation.origin };
-    let turned = v * c + a.cross(&v) * s + a * (a.dot(&v) * (1.0 - c));
+    let turning = Turning::new(rotation);
     if vector {
-        turned
+        turning.vector(x)
     } else {
-        turned + rotation.origin
+        turning.point(x)
     }
 }
 
@@ -131,23 +170,30 @@ impl HullSurface {
             };
             Ok(SurfacePoint { position, area, cell })
         };
-        Ok(HullSurface { hull: hull.into_iter().map(locate).collect::<Result<_, _>>()?, heights, zone })
+        Ok(HullSurface { hull: hull.into_iter().map(locate).collect::<Result<_, _>>()?, heights, zone, n_theta })
+    }
+
+    /// φ_rad of one point (Eqs. 8.1–8.2) with the rotor turned by `turning`; 0 inside a solid.
+    fn point_flux(&self, turning: &Turning, mesh: &Mesh, u: &[[f64; 3]], grad: &[[Vec3; 3]], p: &SurfacePoint) -> f64 {
+        let Some(c) = p.cell else { return 0.0 };
+        let d = turning.point(&p.position) - mesh.cell_centres[c];
+        let g = &grad[c];
+        let velocity = Vec3::from(u[c]) + g[0] * d.x + g[1] * d.y + g[2] * d.z;
+        velocity.dot(&turning.vector(&p.area))
+    }
+
+    /// The rotor zone's rotation on `mesh`, ready to turn points.
+    fn turning<'a>(&self, mesh: &'a Mesh) -> Turning<'a> {
+        Turning::new(mesh.zones[self.zone].rotation.as_ref().expect("checked in new"))
     }
 
     /// Eqs. 8.1–8.4 on the velocity `u` with its cell gradients `grad` (g[c][i] = ∂u/∂x_i), the
     /// mesh at the velocity's time.
     pub fn flux(&self, mesh: &Mesh, u: &[[f64; 3]], grad: &[[Vec3; 3]]) -> ContourFlux {
-        let rotation = mesh.zones[self.zone].rotation.as_ref().expect("checked in new");
-        let phi = |p: &SurfacePoint| -> f64 {
-            let Some(c) = p.cell else { return 0.0 };
-            let d = turn(rotation, &p.position, false) - mesh.cell_centres[c];
-            let g = &grad[c];
-            let velocity = Vec3::from(u[c]) + g[0] * d.x + g[1] * d.y + g[2] * d.z;
-            velocity.dot(&turn(rotation, &p.area, true))
-        };
+        let turning = self.turning(mesh);
         let (mut outflow, mut net, mut top) = (0.0, 0.0, 0.0);
         for (p, &z) in self.hull.iter().zip(&self.heights) {
-            let q = phi(p);
+            let q = self.point_flux(&turning, mesh, u, grad, p);
             net += q;
             if q > 0.0 {
                 outflow += q;
@@ -157,6 +203,54 @@ impl HullSurface {
             }
         }
         ContourFlux { outflow, net, outflow_top_bin: top }
+    }
+
+    /// φ_rad per element of the surface as it stands in the laboratory: element ring·n_θ + j
+    /// lies at azimuth (j + ½) Δθ about the axis from +x, whatever the rotor's angle. The
+    /// rotor's points are rotated into these places to the nearest Δθ (1° apart), so a time
+    /// mean of these values is the mean flow through fixed places of the contour, with the
+    /// blades' passing averaged out: the kind of map the thesis' statements about where its
+    /// heads let water in and out read best against (spillage-and-flow-verification.md §5.2;
+    /// its Fig. 8.2 itself is not in the spec). The rounding moves a point by at most ½° (3 mm
+    /// on the ring).
+    pub fn laboratory_fluxes(&self, mesh: &Mesh, u: &[[f64; 3]], grad: &[[Vec3; 3]]) -> Vec<f64> {
+        let turning = self.turning(mesh);
+        let n = self.n_theta;
+        let shift = self.laboratory_shift(&turning);
+        let mut out = vec![0.0; self.hull.len()];
+        for (i, p) in self.hull.iter().enumerate() {
+            let (ring, j) = (i / n, i % n);
+            out[ring * n + (j + shift) % n] = self.point_flux(&turning, mesh, u, grad, p);
+        }
+        out
+    }
+
+    /// How many Δθ the rotor has carried its points round the axis, in 0..n_θ (from where the
+    /// first point stands now, so the axis' direction and the angle's sign take care of
+    /// themselves).
+    fn laboratory_shift(&self, turning: &Turning) -> usize {
+        let p = &self.hull[0].position;
+        let now = turning.point(p);
+        let dtheta = TAU / self.n_theta as f64;
+        let turned = now.y.atan2(now.x) - p.y.atan2(p.x);
+        ((turned / dtheta).round() as i64).rem_euclid(self.n_theta as i64) as usize
+    }
+
+    /// The laboratory elements in the order of [`HullSurface::laboratory_fluxes`].
+    pub fn laboratory_elements(&self) -> impl Iterator<Item = LaboratoryElement> + '_ {
+        let dtheta = TAU / self.n_theta as f64;
+        // the surface is round, so element i has the geometry of point i at rest
+        self.hull.iter().zip(&self.heights).enumerate().map(move |(i, (p, &z))| LaboratoryElement {
+            z,
+            radius: p.position.xy().norm(),
+            azimuth: ((i % self.n_theta) as f64 + 0.5) * dtheta,
+            area: p.area,
+        })
+    }
+
+    /// Points per ring around the axis.
+    pub fn points_around(&self) -> usize {
+        self.n_theta
     }
 
     /// Σ |A| of the surface [m²].
@@ -237,6 +331,42 @@ mod tests {
         let grad = vec![[spin.column(0).into_owned(), spin.column(1).into_owned(), spin.column(2).into_owned()]; mesh.n_cells()];
         let q = s.flux(&mesh, &u, &grad);
         assert!(q.net.abs() < 1e-12 * omega * 0.375 * scale && q.outflow < 1e-12 * omega * 0.375 * scale, "{q:?}");
+    }
+
+    /// The laboratory elements stay where they are while the rotor turns: with the rotor at a
+    /// whole number of elements' angle, a field fixed in the laboratory gives each open
+    /// element exactly that field's flux through the element's own place, whatever the angle;
+    /// the elements the blades cover carry none, and as many are covered as at rest. (1e-12 of
+    /// the element's flux scale: round-off of the interpolation.)
+    #[test]
+    fn laboratory_elements_stay_in_place_as_the_rotor_turns() {
+        let a = nalgebra::Matrix3::new(0.3, -1.1, 0.2, 0.7, 0.1, -0.4, 0.05, 0.6, -0.2);
+        let b = Vec3::new(0.2, -0.1, 0.5);
+        let field = |x: &Vec3| a * x + b;
+        let grad = |mesh: &Mesh| vec![[a.column(0).into_owned(), a.column(1).into_owned(), a.column(2).into_owned()]; mesh.n_cells()];
+        let (_, mesh, s) = surface(0.05, 0.0);
+        let covered_at_rest = s
+            .laboratory_fluxes(&mesh, &mesh.cell_centres.iter().map(|c| field(c).into()).collect::<Vec<_>>(), &grad(&mesh))
+            .iter()
+            .filter(|q| **q == 0.0)
+            .count();
+        for steps in [37, 200] {
+            let angle = steps as f64 * TAU / s.points_around() as f64;
+            let (_, mesh, s) = surface(0.05, angle);
+            let u: Vec<[f64; 3]> = mesh.cell_centres.iter().map(|c| field(c).into()).collect();
+            let q = s.laboratory_fluxes(&mesh, &u, &grad(&mesh));
+            let mut covered = 0;
+            for (e, q) in s.laboratory_elements().zip(&q) {
+                let place = Vec3::new(e.radius * e.azimuth.cos(), e.radius * e.azimuth.sin(), e.z);
+                if *q == 0.0 {
+                    covered += 1;
+                } else {
+                    let expected = field(&place).dot(&e.area);
+                    assert!((q - expected).abs() < 1e-12 * field(&place).norm() * e.area.norm(), "{steps} steps: {q} vs {expected}");
+                }
+            }
+            assert_eq!(covered, covered_at_rest, "{steps} steps");
+        }
     }
 
     /// A run restarted with its rotor at another angle finds the same cells for every point

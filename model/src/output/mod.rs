@@ -6,6 +6,7 @@
 
 mod atomic_file;
 pub mod bar_chart;
+pub mod heat_map;
 mod number_format;
 pub mod plot;
 pub mod series;

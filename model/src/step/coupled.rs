@@ -283,6 +283,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         (self.fluid.as_mut(), self.particles.as_mut(), &mut self.state)
     }
 
+    /// A cutter head's geometry and hull fluxes, if the case has a head and a fluid.
+    pub fn cutter_head(&self) -> Option<&(CutterHead, HeadFluxes)> {
+        self.head.as_ref()
+    }
+
     /// The rotor at the current time.
     pub fn rotor(&self) -> Option<RotorPose> {
         self.rotor.map(|r| RotorPose { angle: self.state.rotor_angle, ..r })
