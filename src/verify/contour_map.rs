@@ -100,7 +100,7 @@ impl ContourMeanFlow {
         (x != 0.0 || y != 0.0).then(|| y.atan2(x))
     }
 
-    /// Writes the map as `dir/name.csv`: per element its azimuth [°], height z [m], area [m²],
+    /// Writes the map as CSV to `path`: per element its azimuth [°], height z [m], area [m²],
     /// mean flux φ̄ [m³/s] and mean outward velocity φ̄/|A| [m/s].
     fn write_csv(&self, path: &Path) -> Result<()> {
         use std::io::Write;
@@ -120,7 +120,7 @@ impl ContourMeanFlow {
         Ok(())
     }
 
-    /// Draws the mean radial velocity φ̄/|A| over the unrolled contour, azimuth in the
+    /// Draws the mean outward velocity φ̄/|A| (normal to the contour) over the unrolled contour, azimuth in the
     /// laboratory against height, to `dir/name.png`, with its numbers in `dir/name.csv`.
     pub fn draw(&self, dir: &Path, name: &str, title: &str) -> Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;

@@ -66,8 +66,9 @@ pub struct HeadMeans {
     pub contour_mean_flow: ContourMeanFlow,
 }
 
-/// Mean out-flowing flux, net hull flux and torque terms over the last revolution of a
-/// fluid-only run of `case` to its end time (time-weighted: the adaptive step is not uniform).
+/// Mean out-flowing flux, net hull flux, torque terms and the mean flow through the contour
+/// ([`ContourMeanFlow`]) over the last revolution of a fluid-only run of `case` to its end
+/// time (time-weighted: the adaptive step is not uniform).
 /// A case with rock runs its water alone: the thesis' flux checks are of water (§5.2), and the
 /// Euler-turbine model it is compared with has no rock in its Q₁.
 pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
@@ -178,8 +179,8 @@ fn flow(case: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> 
     if let Some(dir) = plots {
         means.contour_mean_flow.draw(dir, &format!("{name}_contour_mean_flow"), &format!("{name}: mean flow through the contour"))?;
     }
-    if let (Some(mouth), Some(centre)) = (head.eccentric_mouth(), means.contour_mean_flow.inflow_centre()) {
-        rows.push(inflow_centre_row(case, mouth.angle, centre));
+    if let Some(mouth) = head.eccentric_mouth() {
+        rows.extend(inflow_centre_row(case, mouth.angle, means.contour_mean_flow.inflow_centre()));
     }
     // Check 3, the rotor's torque balance (spillage_model::cutter_head::torque): the head's
     // torque against what the water's angular momentum does, over the last revolution. A
@@ -302,18 +303,22 @@ fn rpm(case: &Case) -> f64 {
 /// and [`THESIS_MOUTH`] do, that is toward the under-cut side: in under-cutting the blades rise
 /// through the bank, so they turn from the bed toward it. The thesis puts the centre 30°–45°
 /// toward the under-cut side at 60 rpm (§5.2), which the row holds at 60 rpm and reports at
-/// others.
-fn inflow_centre_row(case: &Case, mouth_angle: f64, centre: f64) -> CheckRow {
+/// others. Without a notch (`None`: the outflow equally deep all round) the 60 rpm row fails with
+/// NaN rather than leave the comparison out; at other speeds there is nothing to report.
+fn inflow_centre_row(case: &Case, mouth_angle: f64, centre: Option<f64>) -> Option<CheckRow> {
     let rotor = case.rotor.as_ref().expect("validated with [cutter_head]");
     // the axis is +z (validated with [cutter_head]); azimuths turn about +z
-    let turned = rotor.angular_velocity().signum() * (centre - mouth_angle);
-    let degrees = turned.sin().atan2(turned.cos()).to_degrees();
+    let degrees = centre.map_or(f64::NAN, |centre| {
+        let turned = rotor.angular_velocity().signum() * (centre - mouth_angle);
+        turned.sin().atan2(turned.cos()).to_degrees()
+    });
     let rpm = rpm(case);
     let what = "centre of the mean inflow's reach toward the ring, from the mouth in the direction of rotation [°]";
     if (rpm - 60.0).abs() < 1e-9 {
-        CheckRow::absolute(&case.case.name, format!("{what} (thesis at 60 rpm: 30–45, toward the under-cut side)"), SOLVER, degrees, 37.5, 7.5)
+        Some(CheckRow::absolute(&case.case.name, format!("{what} (thesis at 60 rpm: 30–45, toward the under-cut side)"), SOLVER, degrees, 37.5, 7.5))
     } else {
-        CheckRow::at_most(&case.case.name, format!("{what} at {rpm:.0} rpm (reported; the thesis gives 60 rpm)"), SOLVER, degrees, f64::INFINITY)
+        centre
+            .map(|_| CheckRow::at_most(&case.case.name, format!("{what} at {rpm:.0} rpm (reported; the thesis gives 60 rpm)"), SOLVER, degrees, f64::INFINITY))
     }
 }
 
@@ -366,8 +371,8 @@ fn twenty_rpm(case: &Case, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
         if let Some(dir) = plots {
             mean_flow.draw(dir, &format!("{name}_20rpm_{file}"), &format!("{name}, {}, 20 rpm: mean flow through the contour", file.replace('_', " ")))?;
         }
-        if let (Some(mouth), Some(centre)) = (c.cutter_head.as_ref().and_then(|h| h.eccentric_mouth()), mean_flow.inflow_centre()) {
-            rows.push(inflow_centre_row(&c, mouth.angle, centre));
+        if let Some(mouth) = c.cutter_head.as_ref().and_then(|h| h.eccentric_mouth()) {
+            rows.extend(inflow_centre_row(&c, mouth.angle, mean_flow.inflow_centre()));
         }
         for (measure, value) in [("mean of Eq. 8.4", means.contour_outflow / q_m), ("of the mean flow", ratio)] {
             let what = |thesis: &str| format!("{label} head at 20 rpm: out-flowing flux through the contour / Q_m, {measure} ({thesis})");

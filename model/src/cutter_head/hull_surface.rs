@@ -59,7 +59,7 @@ pub struct ContourFlux {
 pub struct HullSurface {
     /// The surface r = R(z), −H ≤ z ≤ 0 (the ring above and the hub below are solid).
     hull: Vec<SurfacePoint>,
-    /// Heights of the hull points (for the top exit bin).
+    /// Heights of the hull points (for the top exit bin and the laboratory elements).
     heights: Vec<f64>,
     /// The rotor zone (whose rotation carries the points).
     zone: usize,
@@ -147,6 +147,9 @@ impl HullSurface {
                     heights.push(z);
                 }
             }
+        }
+        if hull.is_empty() {
+            return Err(format!("the contour surface of {} contour points has no area", head.contour().len()));
         }
         let zone = mesh.zones.iter().position(|z| z.rotation.is_some()).ok_or("the cutter head's mesh has no rotating zone")?;
         // located in the rotor's reference pose, so a run restarted at another angle finds the
