@@ -135,6 +135,16 @@ fn fast_fluid_matches_the_reference_fluid_on_the_head_with_an_eccentric_mouth() 
     fast_matches_reference(&eccentric(coarse_head(false, 8)), None, 8, "eccentric mouth");
 }
 
+/// The same with both: baffle blades turning under the plate at rest (the converged head with the
+/// thesis' mouth).
+#[test]
+fn fast_fluid_matches_the_reference_fluid_with_baffle_blades_and_an_eccentric_mouth() {
+    let mut case = eccentric(coarse_head(false, 6));
+    case.cutter_head.as_mut().unwrap().mesh.blades = spillage_model::cutter_head::BladeCells::Baffles;
+    case.finish().unwrap_or_else(|e| panic!("{e:?}"));
+    fast_matches_reference(&case, None, 6, "baffle blades, eccentric mouth");
+}
+
 /// Fast and reference fluid from `start` (the initial state without one), `steps` steps.
 fn fast_matches_reference(case: &Case, start: Option<State>, steps: u64, what: &str) {
     let case = case.clone();
