@@ -67,6 +67,9 @@ pub(crate) const PALETTE: [RGBColor; 10] = [
 /// single point, which draws no line) stays visible.
 const MARKER_LIMIT: usize = 60;
 
+/// How many points of line a marker weighs when the legend looks for the emptiest corner.
+const MARKER_WEIGHT: usize = 100;
+
 /// Draws `plot` to a PNG file at `path` (written to a temporary sibling and renamed into place).
 ///
 /// Refuses, naming series and point: NaN/infinite coordinates, non-positive values on a log axis,
@@ -85,7 +88,7 @@ pub fn write_png_styled(plot: &Plot, styles: &[Style], path: &Path) -> Result<()
     // Label digits resolve 1/100 of a linear axis (ticks are about 1/10 apart).
     let resolution = |log: bool, (low, high): (f64, f64)| if log { 0.0 } else { 0.01 * (high - low) };
     let resolutions = (resolution(plot.log_x, x_range), resolution(plot.log_y, y_range));
-    let legend = legend_corner(plot, x_range, y_range);
+    let legend = legend_corner(plot, styles, x_range, y_range);
     render_png(path, "the plot", |root| {
         let (x0, x1) = x_range;
         let (y0, y1) = y_range;
@@ -220,23 +223,37 @@ pub(crate) fn tick_text(value: f64, resolution: f64) -> String {
 /// The legend goes to the corner whose data crowd it least, the upper right on a tie (a rising
 /// curve such as a settling velocity ends under an upper-right legend; two curves that rise from
 /// zero, one of them to the top, as a head's production and spillage, leave only the upper left).
-fn legend_corner(plot: &Plot, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
+/// A legend of long labels reaches past the middle of the plot, and a marker it covers hides a
+/// datum where a covered stretch of line only hides a stretch (a lone computed point at the
+/// middle of the x range went under a legend this way), so the box grows with the labels and a
+/// marker weighs [`MARKER_WEIGHT`] points of line.
+fn legend_corner(plot: &Plot, styles: &[Style], (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
     let unit = |v: f64, (a, b): (f64, f64), log: bool| if log { (v.log10() - a.log10()) / (b.log10() - a.log10()) } else { (v - a) / (b - a) };
-    // points under each corner's box (about the legend's size), in order of preference: a tie
-    // keeps the legend on the right, where readers look for it
+    // points under each corner's box, in order of preference: a tie keeps the legend on the
+    // right, where readers look for it
     const CORNERS: [(SeriesLabelPosition, bool, bool); 4] = [
         (SeriesLabelPosition::UpperRight, true, true),
         (SeriesLabelPosition::LowerRight, true, false),
         (SeriesLabelPosition::UpperLeft, false, true),
         (SeriesLabelPosition::LowerLeft, false, false),
     ];
+    // the box: at least half the width and a third of the height; ≈ 10 px per character of
+    // the longest label at 18 px plus the line sample, over the ≈ 850 × 560 px plot area
+    let longest = plot.series.iter().map(|s| s.label.chars().count()).max().unwrap_or(0) as f64;
+    let width = ((10.0 * longest + 70.0) / 850.0).clamp(0.5, 0.95);
+    let height = ((26.0 * plot.series.len() as f64 + 20.0) / 560.0).clamp(0.35, 0.95);
     let mut covered = [0usize; 4];
-    for &(x, y) in plot.series.iter().flat_map(|s| s.points.iter()) {
-        let (u, v) = (unit(x, (x0, x1), plot.log_x), unit(y, (y0, y1), plot.log_y));
-        for (count, &(_, right, upper)) in covered.iter_mut().zip(&CORNERS) {
-            let in_x = if right { u > 0.5 } else { u < 0.5 };
-            let in_y = if upper { v > 0.65 } else { v < 0.35 };
-            *count += usize::from(in_x && in_y);
+    for (index, series) in plot.series.iter().enumerate() {
+        let style = styles.get(index).copied().unwrap_or_default();
+        let marked = matches!(style, Style::Computed) || (style == Style::Line && series.points.len() <= MARKER_LIMIT);
+        let weight = if marked { MARKER_WEIGHT } else { 1 };
+        for &(x, y) in series.points {
+            let (u, v) = (unit(x, (x0, x1), plot.log_x), unit(y, (y0, y1), plot.log_y));
+            for (count, &(_, right, upper)) in covered.iter_mut().zip(&CORNERS) {
+                let in_x = if right { u > 1.0 - width } else { u < width };
+                let in_y = if upper { v > 1.0 - height } else { v < height };
+                *count += weight * usize::from(in_x && in_y);
+            }
         }
     }
     let best = (0..CORNERS.len()).min_by_key(|&k| covered[k]).unwrap_or(0);
@@ -500,13 +517,25 @@ mod frame_tests {
         let corner = |series: Vec<Series>| {
             let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: false, log_y: false, series };
             let (x, y) = (axis_range(Path::new("t.png"), &plot, Axis::X).unwrap(), axis_range(Path::new("t.png"), &plot, Axis::Y).unwrap());
-            legend_corner(&plot, x, y)
+            legend_corner(&plot, &[], x, y)
         };
         // a head's production (to 0.15) and spillage (to 0.5): the upper right holds spillage's end
         let two = corner(vec![Series { label: "s", points: &rising }, Series { label: "p", points: &low }]);
         assert!(matches!(two, SeriesLabelPosition::UpperLeft), "production and spillage");
         assert!(matches!(corner(vec![Series { label: "f", points: &falling }]), SeriesLabelPosition::UpperRight), "a falling curve");
         assert!(matches!(corner(vec![Series { label: "r", points: &rising }]), SeriesLabelPosition::LowerRight), "a rising curve");
+        // a verification figure: one computed point at the middle of the x range near the top,
+        // a long label, and a model curve along the bottom: the legend may not hide the point
+        let model: Vec<(f64, f64)> = (0..=40).map(|k| (20.0 + 2.0 * k as f64, if k < 23 { 0.0 } else { 0.0025 * (k - 23) as f64 })).collect();
+        let point = [(60.0, 0.093)];
+        let series = vec![
+            Series { label: "computed (fast fluid, mean over the last revolution)", points: &point },
+            Series { label: "analytic spillage model Q₁ (water, same contour)", points: &model },
+        ];
+        let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: false, log_y: false, series };
+        let (x, y) = (axis_range(Path::new("t.png"), &plot, Axis::X).unwrap(), axis_range(Path::new("t.png"), &plot, Axis::Y).unwrap());
+        let place = legend_corner(&plot, &[Style::Computed, Style::Exact], x, y);
+        assert!(!matches!(place, SeriesLabelPosition::UpperRight | SeriesLabelPosition::UpperLeft), "the point at the top middle: {place:?}");
     }
 
     #[test]
