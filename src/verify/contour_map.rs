@@ -19,7 +19,7 @@ use std::path::Path;
 
 /// The time-weighted mean of the contour's laboratory fluxes
 /// ([`HullSurface::laboratory_fluxes`]).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct ContourMeanFlow {
     elements: Vec<LaboratoryElement>,
     points_around: usize,
@@ -182,6 +182,7 @@ mod tests {
         steady.add(&[0.3, -0.3, 0.4, -0.1], 1.0);
         steady.add(&[0.0, -0.3, 0.1, -0.1], 3.0);
         // element 0: (0.3 + 0) / 4; element 2: (0.4 + 0.3) / 4
+        // 1e-15 and 1e-12 (the atan2 of summed sines and cosines): round-off of a few terms
         let (all, top) = steady.outflow();
         assert!((all - 0.25).abs() < 1e-15 && (top - 0.075).abs() < 1e-15, "{all} {top}");
         assert!((steady.outflow_area_fraction() - 0.5).abs() < 1e-15);

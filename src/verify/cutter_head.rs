@@ -42,7 +42,7 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>) -> 
 }
 
 /// Means over the last revolution of a fluid-only run of `case` to its end time.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct HeadMeans {
     /// Out-flowing and net flux through the face hull [m³/s].
     pub outflow: f64,

@@ -70,6 +70,12 @@ const MARKER_LIMIT: usize = 60;
 /// How many points of line a marker weighs when the legend looks for the emptiest corner.
 const MARKER_WEIGHT: usize = 100;
 
+/// Whether a series of `points` points drawn in `style` gets a marker at each point: computed
+/// values always, plain lines when sparse (dashed exact curves and guides never).
+fn draws_markers(style: Style, points: usize) -> bool {
+    style == Style::Computed || (style == Style::Line && points <= MARKER_LIMIT)
+}
+
 /// Draws `plot` to a PNG file at `path` (written to a temporary sibling and renamed into place).
 ///
 /// Refuses, naming series and point: NaN/infinite coordinates, non-positive values on a log axis,
@@ -245,8 +251,7 @@ fn legend_corner(plot: &Plot, styles: &[Style], (x0, x1): (f64, f64), (y0, y1): 
     let mut covered = [0usize; 4];
     for (index, series) in plot.series.iter().enumerate() {
         let style = styles.get(index).copied().unwrap_or_default();
-        let marked = matches!(style, Style::Computed) || (style == Style::Line && series.points.len() <= MARKER_LIMIT);
-        let weight = if marked { MARKER_WEIGHT } else { 1 };
+        let weight = if draws_markers(style, series.points.len()) { MARKER_WEIGHT } else { 1 };
         for &(x, y) in series.points {
             let (u, v) = (unit(x, (x0, x1), plot.log_x), unit(y, (y0, y1), plot.log_y));
             for (count, &(_, right, upper)) in covered.iter_mut().zip(&CORNERS) {
@@ -341,7 +346,7 @@ where
                         + PathElement::new(vec![(0, 0), (24, 0)], colour.stroke_width(if computed { 1 } else { 3 }))
                         + Circle::new((12, 0), if computed { 5 } else { 0 }, colour.filled())
                 });
-                if computed || series.points.len() <= MARKER_LIMIT {
+                if draws_markers(style, series.points.len()) {
                     let radius = if computed { 5 } else { 4 };
                     chart.draw_series(series.points.iter().map(|&point| Circle::new(point, radius, colour.filled()))).map_err(|e| error(&e))?;
                 }
