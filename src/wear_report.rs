@@ -8,11 +8,11 @@ use std::path::Path;
 use spillage_model::case::Case;
 use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::state::State;
-use spillage_model::wear::profile::wear_profile;
+use spillage_model::wear::profile::{eroding_pairs, unworn_walls, wear_profile};
 
 /// Writes the profile files and returns the lines to print; empty without `[wear]`.
 pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<String>> {
-    let (Some(section), Some(wear), Some(walls)) = (&case.wear, &state.wear, &state.walls) else { return Ok(Vec::new()) };
+    let (Some(section), Some(wear)) = (&case.wear, &state.wear) else { return Ok(Vec::new()) };
     let density = section.material.density.or_else(|| section.material.constants().ok().map(|c| c.density)).unwrap_or(f64::NAN);
     let mut lines = Vec::new();
     for w in &wear.walls {
@@ -41,8 +41,8 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         section.acceleration
     ));
     if let Some(profile) = &section.profile {
-        let pairs: Vec<_> = wear.walls.iter().map(|w| (&walls.walls[w.wall], w)).collect();
-        let bins = wear_profile(profile, &pairs);
+        let unworn = unworn_walls(case)?;
+        let bins = wear_profile(profile, &eroding_pairs(&unworn, wear));
         let mut csv = String::from("distance_m,depth_m,rate_m_per_s,volume_m3,impacts,area_m2\n");
         for b in &bins {
             writeln!(csv, "{},{},{},{},{},{}", b.distance, b.depth, b.rate, b.volume, b.impacts, b.area)?;

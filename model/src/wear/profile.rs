@@ -2,11 +2,13 @@
 //! (wear-model.md §12.4) and what `wear_profile.csv` holds.
 
 use super::settings::ProfileSection;
-use super::state::WallWear;
-use crate::walls::state::{Vec3, Wall};
+use super::state::{WallWear, WearState};
+use crate::case::Case;
+use crate::walls::state::{Vec3, Wall, WallState};
+use crate::walls::WallError;
 
-/// One bin of the profile: triangles whose centroid projects into it, within `width`/2 of the
-/// line, in the wall's body frame (its pose at t = 0).
+/// One bin of the profile: triangles whose centroid, on the wall as built (unworn, in its body
+/// frame, the pose at t = 0), projects into it within `width`/2 of the line.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ProfileBin {
     /// Distance of the bin centre from `from` [m].
@@ -21,14 +23,31 @@ pub struct ProfileBin {
     pub area: f64,
 }
 
-/// The profile over the eroding walls `walls` (each with its wear).
-pub fn wear_profile(section: &ProfileSection, walls: &[(&Wall, &WallWear)]) -> Vec<ProfileBin> {
+/// The walls `case` builds, unworn (STL paths relative to the case file's folder), for
+/// [`wear_profile`] and [`eroding_pairs`].
+pub fn unworn_walls(case: &Case) -> Result<WallState, WallError> {
+    crate::walls::build(case, &case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default())
+}
+
+/// Each eroding wall of `wear` as built in `unworn`, with its wear: [`wear_profile`]'s input.
+pub fn eroding_pairs<'a>(unworn: &'a WallState, wear: &'a WearState) -> Vec<(&'a Wall, &'a WallWear)> {
+    wear.walls.iter().map(|w| (&unworn.walls[w.wall], w)).collect()
+}
+
+/// The profile over the eroding walls, each given as built (`unworn`, from
+/// [`crate::walls::build`]) with its wear. A triangle is binned where it was before any wear, so
+/// a bin keeps its triangles and its area however deep the wall recedes: binned where they are
+/// now, the triangles on a crater's flanks would move along the line and, once the crater is
+/// deeper than the half-width, out of the band, leaving bins empty or holding only the
+/// crater's floor.
+pub fn wear_profile(section: &ProfileSection, unworn: &[(&Wall, &WallWear)]) -> Vec<ProfileBin> {
     let (from, to) = (Vec3::from(section.from), Vec3::from(section.to));
     let length = (to - from).norm();
     let along = (to - from) / length;
     let n = section.bins;
     let mut bins: Vec<ProfileBin> = (0..n).map(|k| ProfileBin { distance: (k as f64 + 0.5) * length / n as f64, ..ProfileBin::default() }).collect();
-    for (wall, wear) in walls {
+    for (wall, wear) in unworn {
+        debug_assert_eq!(wall.triangles.len(), wear.triangle_volume.len(), "{}: the wall as built has other triangles than its wear", wear.name);
         let depth = wear.on_triangles(&wear.node_depth, &wall.triangles);
         let rate = wear.on_triangles(&wear.node_rate, &wall.triangles);
         for (t, tri) in wall.triangles.iter().enumerate() {
@@ -55,4 +74,47 @@ pub fn wear_profile(section: &ProfileSection, walls: &[(&Wall, &WallWear)]) -> V
         }
     }
     bins
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::walls::geometry::plane;
+    use crate::walls::state::WallMotion;
+    use crate::wear::surface::WearSurface;
+
+    /// A 10 × 6 mm plate (normal +y) receded uniformly by 4 mm, deeper than the profile's
+    /// half-width of 3 mm: binned on the plate as built, each of the ten bins keeps its
+    /// 1 × 6 mm and reads the 4 mm; binned on the worn plate (what `wear_profile` was given
+    /// before), the triangles are 4 mm off the line and every bin is empty.
+    #[test]
+    fn bins_keep_their_triangles_however_deep_the_wall_recedes() {
+        let mesh = plane(Vec3::zeros(), Vec3::y(), [0.01, 0.006], [10, 6], Some(Vec3::x()));
+        let unworn = Wall {
+            name: "coupon".into(),
+            material: 0,
+            vertices: mesh.vertices,
+            triangles: mesh.triangles,
+            motion: WallMotion::Static,
+            revision: 0,
+            pose: Default::default(),
+        };
+        let surface = WearSurface::new(&unworn.vertices, &unworn.triangles);
+        let mut wear = WallWear::new(0, "coupon".into(), unworn.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
+        let depth = 0.004;
+        wear.node_depth.iter_mut().for_each(|d| *d = depth);
+        let mut worn = unworn.clone();
+        worn.vertices.iter_mut().for_each(|v| v.y -= depth);
+        let line = ProfileSection { from: [-0.005, 0.0, 0.0], to: [0.005, 0.0, 0.0], width: 0.006, bins: 10 };
+
+        let bins = wear_profile(&line, &[(&unworn, &wear)]);
+        assert_eq!(bins.len(), 10);
+        for (k, bin) in bins.iter().enumerate() {
+            // sums of a bin's twelve triangle areas and depths: round-off
+            assert!((bin.area - 6e-6).abs() < 1e-18, "bin {k}: area {}", bin.area);
+            assert!((bin.depth - depth).abs() < 1e-15, "bin {k}: depth {}", bin.depth);
+            assert!((bin.distance - (k as f64 + 0.5) * 1e-3).abs() < 1e-15);
+        }
+        assert!(wear_profile(&line, &[(&worn, &wear)]).iter().all(|b| b.area == 0.0), "the worn plate's triangles lie outside the band");
+    }
 }
