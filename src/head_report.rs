@@ -34,10 +34,9 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
             let end = time.last().copied().unwrap_or(0.0);
             let period = if omega > 0.0 { std::f64::consts::TAU / omega } else { f64::INFINITY };
             let from = (end - period).max(0.0);
-            let window_mean = |values: &[f64]| {
-                let window: Vec<f64> = time.iter().zip(values).filter(|(t, _)| **t > from).map(|(_, q)| *q).collect();
-                window.iter().sum::<f64>() / window.len().max(1) as f64
-            };
+            // time-weighted, as the sweep's `_mean` columns and the verification's means: the
+            // Courant-controlled step is not uniform
+            let window_mean = |values: &[f64]| crate::sweep::table::window_mean(&time, values, (from, end)).unwrap_or(f64::NAN);
             let mean = window_mean(&outflow);
             let revolutions = end / period;
             let window_text = if revolutions >= 1.0 { "the last revolution".to_string() } else { format!("the {revolutions:.2} revolutions run") };

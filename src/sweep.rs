@@ -21,7 +21,7 @@ use spillage::verify::head_model as analytic;
 mod plots;
 mod points;
 mod runner;
-mod table;
+pub(crate) mod table;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
