@@ -14,6 +14,8 @@ use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::output::series::read_series;
 use spillage_model::state::State;
 
+use crate::sweep::table::{window_mean, WindowRule};
+
 /// Writes the head's files and plots and returns the lines to print; empty without a head.
 pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<String>> {
     let Some(section) = &case.cutter_head else { return Ok(Vec::new()) };
@@ -27,19 +29,21 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots)?;
     let series_path = out.join("series.csv");
-    let omega = case.rotor.as_ref().map_or(0.0, |r| r.angular_velocity()).abs();
     if series_path.exists() {
         let table = read_series(&series_path)?;
         if let (Some(time), Some(outflow)) = (table.column("time"), table.column("hull_outflow")) {
             let end = time.last().copied().unwrap_or(0.0);
-            let period = if omega > 0.0 { std::f64::consts::TAU / omega } else { f64::INFINITY };
-            let from = (end - period).max(0.0);
-            // time-weighted, as the sweep's `_mean` columns and the verification's means: the
+            // the sweep's window and its time-weighted mean (the `_mean` columns): the
             // Courant-controlled step is not uniform
-            let window_mean = |values: &[f64]| crate::sweep::table::window_mean(&time, values, (from, end)).unwrap_or(f64::NAN);
+            let rule = WindowRule::for_case(case);
+            let window = rule.window(end);
+            let window_mean = |values: &[f64]| window_mean(&time, values, window).unwrap_or(f64::NAN);
             let mean = window_mean(&outflow);
-            let revolutions = end / period;
-            let window_text = if revolutions >= 1.0 { "the last revolution".to_string() } else { format!("the {revolutions:.2} revolutions run") };
+            let window_text = match rule {
+                WindowRule::LastRevolution { period } if end >= period => "the last revolution".to_string(),
+                WindowRule::LastRevolution { period } => format!("the {:.2} revolutions run", end / period),
+                WindowRule::LastTenth => "the last 10 % of the run (the rotor stands)".to_string(),
+            };
             let q_m = head.suction_discharge;
             lines.push(format!(
                 "out-flowing flux  {mean:.4} m³/s = {:.3} Q_m through the cells' hull (Eq. 8.4, mean over {window_text}; Q_m = {q_m} m³/s)",

@@ -8,7 +8,7 @@ use std::path::Path;
 use spillage_model::case::Case;
 use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::state::State;
-use spillage_model::wear::profile::{eroding_pairs, unworn_walls, wear_profile};
+use spillage_model::wear::profile::{wear_profile, UnwornWalls};
 
 /// Writes the profile files and returns the lines to print; empty without `[wear]`.
 pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<String>> {
@@ -41,8 +41,7 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
         section.acceleration
     ));
     if let Some(profile) = &section.profile {
-        let unworn = unworn_walls(case)?;
-        let bins = wear_profile(profile, &eroding_pairs(&unworn, wear));
+        let bins = wear_profile(profile, &UnwornWalls::of_case(case)?, wear);
         let mut csv = String::from("distance_m,depth_m,rate_m_per_s,volume_m3,impacts,area_m2\n");
         for b in &bins {
             writeln!(csv, "{},{},{},{},{},{}", b.distance, b.depth, b.rate, b.volume, b.impacts, b.area)?;

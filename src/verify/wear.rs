@@ -15,7 +15,7 @@ use spillage_model::solver::Solver;
 use spillage_model::state::State;
 use spillage_model::step::{reached_end_time, Coupled};
 use spillage_model::walls::state::Vec3;
-use spillage_model::wear::profile::{eroding_pairs, unworn_walls, wear_profile};
+use spillage_model::wear::profile::{wear_profile, UnwornWalls};
 use spillage_model::wear::settings::{AngleFunctionForm, ErosionLawName};
 use spillage_model::wear::surface::WearSurface;
 use spillage_reference::dem::ReferenceDem;
@@ -200,8 +200,8 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
     rows.push(CheckRow::relative(name, "Σ deposited on the triangles vs Σ per-impact volumes (relative)", SOLVER, on_triangles, law_total, 1e-12));
     rows.extend(budget_rows(name, &case, &state)?);
     if let (Some(dir), Some(line)) = (plots, section.profile.as_ref()) {
-        let unworn = unworn_walls(&case)?;
-        let depth: Vec<(f64, f64)> = wear_profile(line, &eroding_pairs(&unworn, wear)).iter().filter(|b| b.area > 0.0).map(|b| (b.distance, b.depth)).collect();
+        let depth: Vec<(f64, f64)> =
+            wear_profile(line, &UnwornWalls::of_case(&case)?, wear).iter().filter(|b| b.area > 0.0).map(|b| (b.distance, b.depth)).collect();
         draw_profile(dir, name, &state, &depth, None)?;
     }
     Ok(rows)
@@ -215,7 +215,8 @@ fn budget_rows(name: &str, case: &Case, state: &State) -> Result<Vec<CheckRow>> 
     let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
     let walls = state.walls.as_ref().ok_or_else(|| anyhow!("no walls"))?;
     let damping = case.wear.as_ref().and_then(|w| w.smoothing.as_ref()).map(|s| s.damping);
-    let unworn = unworn_walls(case)?;
+    let dir = case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default();
+    let unworn = spillage_model::walls::build(case, &dir)?;
     let (mut in_flight, mut geometric, mut representable) = (0.0, 0.0, 0.0);
     for w in &wear.walls {
         let before = &unworn.walls[w.wall];
@@ -271,8 +272,7 @@ fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow
     let line = section.profile.clone().ok_or_else(|| anyhow!("{}: wear_profile needs [wear.profile]", base.path.display()))?;
     let state = run_to_end(&case)?;
     let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
-    let unworn = unworn_walls(&case)?;
-    let bins = wear_profile(&line, &eroding_pairs(&unworn, wear));
+    let bins = wear_profile(&line, &UnwornWalls::of_case(&case)?, wear);
     let depth: Vec<(f64, f64)> = bins.iter().filter(|b| b.area > 0.0).map(|b| (b.distance, b.depth)).collect();
     let peaks = profile_peaks(&depth);
     let mut rows = Vec::new();

@@ -2,9 +2,9 @@
 //! (wear-model.md §12.4) and what `wear_profile.csv` holds.
 
 use super::settings::ProfileSection;
-use super::state::{WallWear, WearState};
+use super::state::WearState;
 use crate::case::Case;
-use crate::walls::state::{Vec3, Wall, WallState};
+use crate::walls::state::{Vec3, WallState};
 use crate::walls::WallError;
 
 /// One bin of the profile: triangles whose centroid, on the wall as built (unworn, in its body
@@ -23,30 +23,31 @@ pub struct ProfileBin {
     pub area: f64,
 }
 
-/// The walls `case` builds, unworn (STL paths relative to the case file's folder), for
-/// [`wear_profile`] and [`eroding_pairs`].
-pub fn unworn_walls(case: &Case) -> Result<WallState, WallError> {
-    crate::walls::build(case, &case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default())
+/// The walls as the case builds them, before any wear: where [`wear_profile`] bins the
+/// triangles. A type of its own so that the walls of a worn state cannot be passed instead.
+pub struct UnwornWalls(WallState);
+
+impl UnwornWalls {
+    /// The walls `case` builds (STL paths relative to the case file's folder).
+    pub fn of_case(case: &Case) -> Result<Self, WallError> {
+        crate::walls::build(case, &case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default()).map(UnwornWalls)
+    }
 }
 
-/// Each eroding wall of `wear` as built in `unworn`, with its wear: [`wear_profile`]'s input.
-pub fn eroding_pairs<'a>(unworn: &'a WallState, wear: &'a WearState) -> Vec<(&'a Wall, &'a WallWear)> {
-    wear.walls.iter().map(|w| (&unworn.walls[w.wall], w)).collect()
-}
-
-/// The profile over the eroding walls, each given as built (`unworn`, from
-/// [`crate::walls::build`]) with its wear. A triangle is binned where it was before any wear, so
-/// a bin keeps its triangles and its area however deep the wall recedes: binned where they are
-/// now, the triangles on a crater's flanks would move along the line and, once the crater is
-/// deeper than the half-width, out of the band, leaving bins empty or holding only the
-/// crater's floor.
-pub fn wear_profile(section: &ProfileSection, unworn: &[(&Wall, &WallWear)]) -> Vec<ProfileBin> {
+/// The profile of `wear` over its eroding walls, binned on the walls as built. A bin keeps its
+/// triangles and its area however deep the wall recedes. Binned where they are now, the
+/// triangles would leave the band as the wall recedes: it is measured in 3-D, so a triangle
+/// `z` off the line left it once the depth passed √((`width`/2)² − z²) (on the Coriolis coupon
+/// the outer rows, 2.67 mm off, at 1.4 mm), and a bin then held only the crater's floor, or
+/// nothing.
+pub fn wear_profile(section: &ProfileSection, unworn: &UnwornWalls, wear: &WearState) -> Vec<ProfileBin> {
     let (from, to) = (Vec3::from(section.from), Vec3::from(section.to));
     let length = (to - from).norm();
     let along = (to - from) / length;
     let n = section.bins;
     let mut bins: Vec<ProfileBin> = (0..n).map(|k| ProfileBin { distance: (k as f64 + 0.5) * length / n as f64, ..ProfileBin::default() }).collect();
-    for (wall, wear) in unworn {
+    for wear in &wear.walls {
+        let wall = &unworn.0.walls[wear.wall];
         debug_assert_eq!(wall.triangles.len(), wear.triangle_volume.len(), "{}: the wall as built has other triangles than its wear", wear.name);
         let depth = wear.on_triangles(&wear.node_depth, &wall.triangles);
         let rate = wear.on_triangles(&wear.node_rate, &wall.triangles);
@@ -80,17 +81,18 @@ pub fn wear_profile(section: &ProfileSection, unworn: &[(&Wall, &WallWear)]) -> 
 mod tests {
     use super::*;
     use crate::walls::geometry::plane;
-    use crate::walls::state::WallMotion;
+    use crate::walls::state::{Wall, WallMotion};
+    use crate::wear::state::WallWear;
     use crate::wear::surface::WearSurface;
 
     /// A 10 × 6 mm plate (normal +y) receded uniformly by 4 mm, deeper than the profile's
     /// half-width of 3 mm: binned on the plate as built, each of the ten bins keeps its
-    /// 1 × 6 mm and reads the 4 mm; binned on the worn plate (what `wear_profile` was given
-    /// before), the triangles are 4 mm off the line and every bin is empty.
+    /// 1 × 6 mm and reads the 4 mm. Binned on the worn plate (what the profile was given before
+    /// [`UnwornWalls`]), the triangles are 4 mm off the line and every bin is empty.
     #[test]
     fn bins_keep_their_triangles_however_deep_the_wall_recedes() {
         let mesh = plane(Vec3::zeros(), Vec3::y(), [0.01, 0.006], [10, 6], Some(Vec3::x()));
-        let unworn = Wall {
+        let plate = Wall {
             name: "coupon".into(),
             material: 0,
             vertices: mesh.vertices,
@@ -99,15 +101,16 @@ mod tests {
             revision: 0,
             pose: Default::default(),
         };
-        let surface = WearSurface::new(&unworn.vertices, &unworn.triangles);
-        let mut wear = WallWear::new(0, "coupon".into(), unworn.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
+        let surface = WearSurface::new(&plate.vertices, &plate.triangles);
+        let mut wall_wear = WallWear::new(0, "coupon".into(), plate.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
         let depth = 0.004;
-        wear.node_depth.iter_mut().for_each(|d| *d = depth);
-        let mut worn = unworn.clone();
+        wall_wear.node_depth.iter_mut().for_each(|d| *d = depth);
+        let wear = WearState { walls: vec![wall_wear], impacts: 0 };
+        let mut worn = plate.clone();
         worn.vertices.iter_mut().for_each(|v| v.y -= depth);
         let line = ProfileSection { from: [-0.005, 0.0, 0.0], to: [0.005, 0.0, 0.0], width: 0.006, bins: 10 };
 
-        let bins = wear_profile(&line, &[(&unworn, &wear)]);
+        let bins = wear_profile(&line, &UnwornWalls(WallState { walls: vec![plate] }), &wear);
         assert_eq!(bins.len(), 10);
         for (k, bin) in bins.iter().enumerate() {
             // sums of a bin's twelve triangle areas and depths: round-off
@@ -115,6 +118,7 @@ mod tests {
             assert!((bin.depth - depth).abs() < 1e-15, "bin {k}: depth {}", bin.depth);
             assert!((bin.distance - (k as f64 + 0.5) * 1e-3).abs() < 1e-15);
         }
-        assert!(wear_profile(&line, &[(&worn, &wear)]).iter().all(|b| b.area == 0.0), "the worn plate's triangles lie outside the band");
+        let on_the_worn_plate = wear_profile(&line, &UnwornWalls(WallState { walls: vec![worn] }), &wear);
+        assert!(on_the_worn_plate.iter().all(|b| b.area == 0.0), "the worn plate's triangles lie outside the band");
     }
 }

@@ -119,7 +119,8 @@ pub struct SmoothingSection {
 }
 
 /// `[wear.profile]`: wear depth along the segment `from` → `to`, averaged over the wall
-/// triangles whose centroid lies within `width`/2 of it, in `bins` equal bins.
+/// triangles whose centroid, on the wall as built, lies within `width`/2 of it, in `bins` equal
+/// bins ([`super::profile::wear_profile`]).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProfileSection {

@@ -14,8 +14,7 @@ use anyhow::{anyhow, bail, Result};
 use spillage_model::case::Case;
 use spillage_model::output::plot::{write_png, Plot, Series};
 use spillage_model::state::State;
-use spillage_model::walls::state::WallState;
-use spillage_model::wear::profile::{eroding_pairs, unworn_walls, wear_profile};
+use spillage_model::wear::profile::{wear_profile, UnwornWalls};
 use spillage_model::wear::settings::ProfileSection;
 
 use super::{budget_rows, number, run_sampling, SOLVER};
@@ -34,15 +33,15 @@ struct Record {
 impl Record {
     fn run(case: &Case, line: &ProfileSection) -> Result<Self> {
         let mut record = Record { times: Vec::new(), volumes: Vec::new(), distance: Vec::new(), area: Vec::new(), state: State::default() };
-        let unworn = unworn_walls(case)?;
+        let unworn = UnwornWalls::of_case(case)?;
         record.state = run_sampling(case, |state| record.sample(state, line, &unworn))?;
         Ok(record)
     }
 
-    fn sample(&mut self, state: &State, line: &ProfileSection, unworn: &WallState) -> Result<()> {
+    fn sample(&mut self, state: &State, line: &ProfileSection, unworn: &UnwornWalls) -> Result<()> {
         self.times.push(state.time);
         let wear = state.wear.as_ref().ok_or_else(|| anyhow!("no wear state"))?;
-        let bins = wear_profile(line, &eroding_pairs(unworn, wear));
+        let bins = wear_profile(line, unworn, wear);
         if self.distance.is_empty() {
             self.distance = bins.iter().map(|b| b.distance).collect();
             // the bins' areas on the plate as built: the wear rate is per area of it
