@@ -83,7 +83,7 @@ pub fn build(case: &Case, case_dir: &Path) -> Result<WallState, WallError> {
 }
 
 /// A wall at its body-frame pose, once its mesh is known to be valid.
-fn wall(name: String, material: usize, mesh: TriangleMesh, motion: WallMotion) -> Result<Wall, WallError> {
+pub fn wall(name: String, material: usize, mesh: TriangleMesh, motion: WallMotion) -> Result<Wall, WallError> {
     let TriangleMesh { vertices, triangles } = mesh;
     match geometry::WallMesh::new(&vertices, &triangles) {
         Ok(_) => Ok(Wall { name, material, vertices, triangles, motion, revision: 0, pose: Default::default() }),

@@ -81,7 +81,7 @@ pub fn wear_profile(section: &ProfileSection, unworn: &UnwornWalls, wear: &WearS
 mod tests {
     use super::*;
     use crate::walls::geometry::plane;
-    use crate::walls::state::{Wall, WallMotion};
+    use crate::walls::state::WallMotion;
     use crate::wear::state::WallWear;
     use crate::wear::surface::WearSurface;
 
@@ -92,15 +92,7 @@ mod tests {
     #[test]
     fn bins_keep_their_triangles_however_deep_the_wall_recedes() {
         let mesh = plane(Vec3::zeros(), Vec3::y(), [0.01, 0.006], [10, 6], Some(Vec3::x()));
-        let plate = Wall {
-            name: "coupon".into(),
-            material: 0,
-            vertices: mesh.vertices,
-            triangles: mesh.triangles,
-            motion: WallMotion::Static,
-            revision: 0,
-            pose: Default::default(),
-        };
+        let plate = crate::walls::wall("coupon".into(), 0, mesh, WallMotion::Static).unwrap();
         let surface = WearSurface::new(&plate.vertices, &plate.triangles);
         let mut wall_wear = WallWear::new(0, "coupon".into(), plate.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
         let depth = 0.004;

@@ -92,15 +92,7 @@ mod tests {
     fn closed_box() -> (Wall, WearSurface, WallWear) {
         let mesh = box_faces(Vec3::zeros(), Vec3::new(0.1, 0.1, 0.1), 4, &[]);
         let surface = WearSurface::new(&mesh.vertices, &mesh.triangles);
-        let wall = Wall {
-            name: "box".into(),
-            material: 0,
-            vertices: mesh.vertices,
-            triangles: mesh.triangles,
-            motion: WallMotion::Static,
-            revision: 0,
-            pose: Default::default(),
-        };
+        let wall = spillage_model::walls::wall("box".into(), 0, mesh, WallMotion::Static).unwrap();
         let nodes = surface.nodes(&wall.vertices);
         let mut w = WallWear::new(0, "box".into(), wall.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
         w.volume_origin = [0.05; 3];
