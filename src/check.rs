@@ -303,6 +303,10 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
     for line in wear_lines(&case) {
         push(line);
     }
+    let profile = profile_coverage(&case);
+    if let Some((line, _)) = &profile {
+        push(line.clone());
+    }
     if case.mesh.is_some() || case.cutter_head.is_some() {
         push(format!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6));
     }
@@ -327,7 +331,8 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
             batch.time
         ));
     }
-    let warnings = spillage_model::case::unusual::warnings(&case);
+    let mut warnings = spillage_model::case::unusual::warnings(&case);
+    warnings.extend(profile.and_then(|(_, warning)| warning));
     Ok(Report { case, lines, warnings })
 }
 
@@ -379,6 +384,26 @@ fn wear_lines(case: &Case) -> Vec<String> {
         ));
     }
     lines
+}
+
+/// `[wear.profile]`: how many of its bins lie over the eroding walls as built, and a warning
+/// when none does (the line misses the walls: `wear_profile.csv` would hold only empty bins).
+/// `None` without a profile, or when the walls cannot be built (the run says why).
+fn profile_coverage(case: &Case) -> Option<(String, Option<String>)> {
+    use spillage_model::wear::profile::{covered_bins, UnwornWalls};
+    let wear = case.wear.as_ref()?;
+    let line = wear.profile.as_ref()?;
+    let unworn = UnwornWalls::of_case(case).ok()?;
+    let eroding = spillage_model::wear::setup::eroding_walls(wear, unworn.walls()).ok()?;
+    let covered = covered_bins(line, &unworn, &eroding);
+    let text = format!("profile      {} bins from {:?} to {:?}, {} m wide: {covered} over the eroding walls", line.bins, line.from, line.to, line.width);
+    let warning = (covered == 0).then(|| {
+        format!(
+            "wear.profile: the line from {:?} to {:?} ({} m wide) passes over no triangle of the eroding walls, so wear_profile.csv would hold only empty bins; a bin takes the triangles whose centre lies within width/2 of the line",
+            line.from, line.to, line.width
+        )
+    });
+    Some((text, warning))
 }
 
 /// The turbulence model and, with an imposed velocity, where the first cells sit in wall units:

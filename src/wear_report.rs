@@ -65,6 +65,11 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
                 &plots.join("wear_profile.png"),
             )?;
             lines.push(format!("wear profile      {} (and plots/wear_profile.png)", out.join("wear_profile.csv").display()));
+        } else {
+            lines.push(format!(
+                "wear profile      {}: every bin empty, the line passes over no triangle of the eroding walls (no plot; `spillage check` warns of it)",
+                out.join("wear_profile.csv").display()
+            ));
         }
     }
     Ok(lines)

@@ -429,6 +429,26 @@ fn check_names_the_fluid_forces_on_the_particles() {
     }
 }
 
+/// `spillage check` counts the wear profile's bins over the eroding walls, and warns when its
+/// line misses them (moved from the coupon's face at y = −5 mm to the channel's top at +5 mm).
+#[test]
+fn check_warns_of_a_wear_profile_that_misses_the_walls() {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verification/wear/coriolis_garnet.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
+    let dir = scratch("profile-line");
+    let missing = dir.join("coriolis_profile_off_the_coupon.toml");
+    let edited = text.replacen("from = [0.103, -0.005, 0.0]\nto = [0.147, -0.005, 0.0]\n", "from = [0.103, 0.005, 0.0]\nto = [0.147, 0.005, 0.0]\n", 1);
+    assert_ne!(edited, text, "the edit found the profile line");
+    std::fs::write(&missing, edited).unwrap();
+    for (case, covered, warned) in [(&source, "44 over the eroding walls", false), (&missing, "0 over the eroding walls", true)] {
+        let out = spillage(&["check", case.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(stdout.lines().any(|l| l.starts_with("profile ") && l.ends_with(covered)), "{}: {covered:?} not in\n{stdout}", case.display());
+        assert_eq!(stderr.contains("warning: wear.profile: the line from [0.103, 0.005, 0.0]"), warned, "{}:\n{stderr}", case.display());
+    }
+}
+
 /// `spillage check` says when a head batch placed after the water has turned comes in, warns
 /// when the run ends before it, and names the key of a negative number of revolutions.
 #[test]

@@ -4,7 +4,7 @@
 use super::settings::ProfileSection;
 use super::state::WearState;
 use crate::case::Case;
-use crate::walls::state::{Vec3, WallState};
+use crate::walls::state::{Vec3, Wall, WallState};
 use crate::walls::WallError;
 
 /// One bin of the profile: triangles whose centroid, on the wall as built (unworn, in its body
@@ -32,6 +32,10 @@ impl UnwornWalls {
     pub fn of_case(case: &Case) -> Result<Self, WallError> {
         crate::walls::build(case, &case.path.parent().map(|p| p.to_path_buf()).unwrap_or_default()).map(UnwornWalls)
     }
+
+    pub fn walls(&self) -> &WallState {
+        &self.0
+    }
 }
 
 /// The profile of `wear` over its eroding walls, binned on the walls as built. A bin keeps its
@@ -41,26 +45,16 @@ impl UnwornWalls {
 /// the outer rows, 2.67 mm off, at 1.4 mm), and a bin then held only the crater's floor, or
 /// nothing.
 pub fn wear_profile(section: &ProfileSection, unworn: &UnwornWalls, wear: &WearState) -> Vec<ProfileBin> {
-    let (from, to) = (Vec3::from(section.from), Vec3::from(section.to));
-    let length = (to - from).norm();
-    let along = (to - from) / length;
     let n = section.bins;
+    let length = (Vec3::from(section.to) - Vec3::from(section.from)).norm();
     let mut bins: Vec<ProfileBin> = (0..n).map(|k| ProfileBin { distance: (k as f64 + 0.5) * length / n as f64, ..ProfileBin::default() }).collect();
     for wear in &wear.walls {
         let wall = &unworn.0.walls[wear.wall];
         debug_assert_eq!(wall.triangles.len(), wear.triangle_volume.len(), "{}: the wall as built has other triangles than its wear", wear.name);
         let depth = wear.on_triangles(&wear.node_depth, &wall.triangles);
         let rate = wear.on_triangles(&wear.node_rate, &wall.triangles);
-        for (t, tri) in wall.triangles.iter().enumerate() {
-            let [a, b, c] = tri.map(|v| wall.vertices[v as usize]);
-            let centre = (a + b + c) / 3.0;
-            let s = (centre - from).dot(&along);
-            let off = (centre - from - s * along).norm();
-            if !(0.0..length).contains(&s) || off > 0.5 * section.width {
-                continue;
-            }
-            let area = 0.5 * (b - a).cross(&(c - a)).norm();
-            let bin = &mut bins[((s / length * n as f64) as usize).min(n - 1)];
+        for (t, k, area) in binned_triangles(section, wall) {
+            let bin = &mut bins[k];
             bin.area += area;
             bin.depth += area * depth[t];
             bin.rate += area * rate[t];
@@ -77,6 +71,38 @@ pub fn wear_profile(section: &ProfileSection, unworn: &UnwornWalls, wear: &WearS
     bins
 }
 
+/// How many of the profile's bins hold a triangle of the walls `eroding` (indices into the
+/// walls as built): `spillage check` says so, and warns when none does (a line that misses the
+/// eroding walls gives a profile of empty bins).
+pub fn covered_bins(section: &ProfileSection, unworn: &UnwornWalls, eroding: &[usize]) -> usize {
+    let mut covered = vec![false; section.bins];
+    for &w in eroding {
+        for (_, k, _) in binned_triangles(section, &unworn.0.walls[w]) {
+            covered[k] = true;
+        }
+    }
+    covered.iter().filter(|&&c| c).count()
+}
+
+/// (triangle, bin, area) of each triangle of `wall` whose centre projects into the profile
+/// within `width`/2 of its line.
+fn binned_triangles<'a>(section: &'a ProfileSection, wall: &'a Wall) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    let (from, to) = (Vec3::from(section.from), Vec3::from(section.to));
+    let length = (to - from).norm();
+    let along = (to - from) / length;
+    let n = section.bins;
+    wall.triangles.iter().enumerate().filter_map(move |(t, tri)| {
+        let [a, b, c] = tri.map(|v| wall.vertices[v as usize]);
+        let centre = (a + b + c) / 3.0;
+        let s = (centre - from).dot(&along);
+        let off = (centre - from - s * along).norm();
+        if !(0.0..length).contains(&s) || off > 0.5 * section.width {
+            return None;
+        }
+        Some((t, ((s / length * n as f64) as usize).min(n - 1), 0.5 * (b - a).cross(&(c - a)).norm()))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,8 +117,7 @@ mod tests {
     /// [`UnwornWalls`]), the triangles are 4 mm off the line and every bin is empty.
     #[test]
     fn bins_keep_their_triangles_however_deep_the_wall_recedes() {
-        let mesh = plane(Vec3::zeros(), Vec3::y(), [0.01, 0.006], [10, 6], Some(Vec3::x()));
-        let plate = crate::walls::wall("coupon".into(), 0, mesh, WallMotion::Static).unwrap();
+        let plate = coupon();
         let surface = WearSurface::new(&plate.vertices, &plate.triangles);
         let mut wall_wear = WallWear::new(0, "coupon".into(), plate.triangles.len(), surface.node_of_vertex.clone(), surface.n_nodes);
         let depth = 0.004;
@@ -110,7 +135,15 @@ mod tests {
             assert!((bin.depth - depth).abs() < 1e-15, "bin {k}: depth {}", bin.depth);
             assert!((bin.distance - (k as f64 + 0.5) * 1e-3).abs() < 1e-15);
         }
-        let on_the_worn_plate = wear_profile(&line, &UnwornWalls(WallState { walls: vec![worn] }), &wear);
+        let on_the_worn_plate = wear_profile(&line, &UnwornWalls(WallState { walls: vec![worn.clone()] }), &wear);
         assert!(on_the_worn_plate.iter().all(|b| b.area == 0.0), "the worn plate's triangles lie outside the band");
+        // what `spillage check` counts: every bin over the plate, none over a plate 4 mm away
+        assert_eq!(covered_bins(&line, &UnwornWalls(WallState { walls: vec![coupon()] }), &[0]), 10);
+        assert_eq!(covered_bins(&line, &UnwornWalls(WallState { walls: vec![worn] }), &[0]), 0);
+    }
+
+    /// A 10 × 6 mm plate through the origin, normal +y, in 1 mm squares.
+    fn coupon() -> Wall {
+        crate::walls::wall("coupon".into(), 0, plane(Vec3::zeros(), Vec3::y(), [0.01, 0.006], [10, 6], Some(Vec3::x())), WallMotion::Static).unwrap()
     }
 }
