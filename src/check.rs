@@ -303,9 +303,8 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
     for line in wear_lines(&case) {
         push(line);
     }
-    let profile = profile_coverage(&case);
-    if let Some((line, _)) = &profile {
-        push(line.clone());
+    if let Some((line, _)) = profile_coverage(&case) {
+        push(line);
     }
     if case.mesh.is_some() || case.cutter_head.is_some() {
         push(format!("memory       ≈ {:.1} MB (fields and geometry)", d.memory_estimate_bytes as f64 / 1e6));
@@ -331,8 +330,7 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
             batch.time
         ));
     }
-    let mut warnings = spillage_model::case::unusual::warnings(&case);
-    warnings.extend(profile.and_then(|(_, warning)| warning));
+    let warnings = warnings(&case);
     Ok(Report { case, lines, warnings })
 }
 
@@ -384,6 +382,14 @@ fn wear_lines(case: &Case) -> Vec<String> {
         ));
     }
     lines
+}
+
+/// What `spillage check` warns of in a valid case: allowed but unusual values, and a wear
+/// profile whose line misses the eroding walls. `spillage run` prints them too.
+pub fn warnings(case: &Case) -> Vec<String> {
+    let mut warnings = spillage_model::case::unusual::warnings(case);
+    warnings.extend(profile_coverage(case).and_then(|(_, warning)| warning));
+    warnings
 }
 
 /// `[wear.profile]`: how many of its bins lie over the eroding walls as built, and a warning

@@ -77,6 +77,10 @@ pub fn build_solver(case: &Case, choice: SolverChoice, state: Option<State>) -> 
 
 pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     let case = Case::load(&opts.case)?;
+    // what `spillage check` would warn of, for a run started without it
+    for warning in spillage::check::warnings(&case) {
+        eprintln!("warning: {warning}");
+    }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut threads = opts.threads.unwrap_or(cores);
     if threads == 0 {

@@ -447,6 +447,18 @@ fn check_warns_of_a_wear_profile_that_misses_the_walls() {
         assert!(stdout.lines().any(|l| l.starts_with("profile ") && l.ends_with(covered)), "{}: {covered:?} not in\n{stdout}", case.display());
         assert_eq!(stderr.contains("warning: wear.profile: the line from [0.103, 0.005, 0.0]"), warned, "{}:\n{stderr}", case.display());
     }
+    // a run started without `spillage check` warns at its start and says so at its end
+    let one_step = dir.join("coriolis_profile_off_the_coupon_one_step.toml");
+    let text = std::fs::read_to_string(&missing).unwrap();
+    let edited = text.replacen("end_time = 0.025\n", "end_time = 2.5e-5\n", 1);
+    assert_ne!(edited, text, "the edit found end_time");
+    std::fs::write(&one_step, edited).unwrap();
+    let out = spillage(&["run", one_step.to_str().unwrap(), "--out", dir.join("run").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(stderr.contains("warning: wear.profile: the line from [0.103, 0.005, 0.0]"), "{stderr}");
+    // the end report goes to stderr with the progress, away from a piped stdout
+    assert!(stderr.contains("every bin empty, the line passes over no triangle of the eroding walls"), "{stdout}\n{stderr}");
 }
 
 /// `spillage check` says when a head batch placed after the water has turned comes in, warns
