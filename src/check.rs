@@ -343,10 +343,10 @@ fn wear_lines(case: &Case) -> Vec<String> {
     let Some(wear) = &case.wear else { return Vec::new() };
     let walls = if wear.walls.is_empty() { "every wall".to_string() } else { wear.walls.join(", ") };
     let mut lines = vec![format!(
-        "wear         {:?} on {walls}: deposited volume = law × {} (modifier {} × acceleration {}); walls {}",
+        "wear         {:?} on {walls}: deposited volume = law × {} ([particles] modifier {} × acceleration {}); walls {}",
         wear.law,
-        wear.modifier * wear.acceleration,
-        wear.modifier,
+        case.particle_modifier() * wear.acceleration,
+        case.particle_modifier(),
         wear.acceleration,
         if wear.receding { "recede" } else { "stay (static-boundary mode)" }
     )];
@@ -466,6 +466,13 @@ fn particle_lines(case: &Case) -> Vec<String> {
             FluidForces::DragAndBuoyancy => {
                 "forces       drag and buoyancy only: the wear model's particle, no added mass or pressure-gradient force (wear-model.md Eqs. 2.11/5.3; fluid_forces = \"drag_and_buoyancy\")".to_string()
             }
+        });
+    }
+    if case.fluid.is_some() {
+        let represents = if p.modifier == 1.0 { String::new() } else { format!("; each simulated particle counts as {} real ones (modifier)", p.modifier) };
+        lines.push(match &case.coupling {
+            Some(c) => format!("coupling     two-way: {:?} mapping, γ = {} (σ = γ d_p), feedback {:?}{represents}", c.method, c.distance_factor, c.feedback),
+            None => format!("coupling     one-way: the fluid does not feel the particles (no [coupling]){represents}"),
         });
     }
     if let Some((rho_f, nu)) = fluid {

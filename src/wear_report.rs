@@ -37,7 +37,7 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     lines.push(format!(
         "wear bookkeeping  deposited {deposited:.6e} m³ = receded {receded:.6e} m³ + still smoothing {:.6e} m³ (× modifier {} × acceleration {})",
         deposited - receded,
-        section.modifier,
+        case.particle_modifier(),
         section.acceleration
     ));
     if let Some(profile) = &section.profile {

@@ -39,11 +39,9 @@ fn coarse(relative: &str) -> Case {
     let mut case = case(relative);
     let params = case.verify.as_ref().map(|v| v.params.clone()).unwrap_or_default();
     if let Some(thinning) = params.get("coarse_modifier").and_then(|v| v.as_float()) {
-        for feed in case.particles.as_mut().map(|p| p.feed.iter_mut()).into_iter().flatten() {
-            feed.rate /= thinning;
-        }
-        if let Some(w) = case.wear.as_mut() {
-            w.modifier *= thinning;
+        if let Some(p) = case.particles.as_mut() {
+            p.feed.iter_mut().for_each(|feed| feed.rate /= thinning);
+            p.modifier *= thinning;
         }
     }
     case
@@ -404,7 +402,7 @@ fn on_a_refined_plate_the_parallel_fast_phase_matches_the_reference_and_conserve
         let on_triangles: f64 = w.triangle_volume.iter().sum();
         // Σ triangles vs Σ per impact: the same volumes summed in two orders, 1e-12
         assert!((on_triangles - w.deposited).abs() <= 1e-12 * w.deposited, "step {step}: {on_triangles:e} vs {:e}", w.deposited);
-        let law = section.modifier * section.acceleration * (w.law_cutting + w.law_deformation);
+        let law = case.particle_modifier() * section.acceleration * (w.law_cutting + w.law_deformation);
         // Σ of the law's parts × modifier × acceleration vs Σ of the scaled volumes: 1e-12
         assert!((law - w.deposited).abs() <= 1e-12 * w.deposited, "step {step}: law {law:e} vs {:e}", w.deposited);
         // the §7.3 identity (the twin checks the report's balance error too), 1e-12

@@ -137,7 +137,7 @@ fn stream(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>
     let diameter = feed.diameter.largest();
     let mass = particle.density * std::f64::consts::PI * diameter.powi(3) / 6.0;
     let speed = feed.velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let scale = section.modifier * section.acceleration;
+    let scale = base.particle_modifier() * section.acceleration;
 
     let mut rows = Vec::new();
     let (mut measured, mut exact) = (Vec::new(), Vec::new());
@@ -254,18 +254,16 @@ fn budget_rows(name: &str, case: &Case, state: &State) -> Result<Vec<CheckRow>> 
 /// peak `first_peak` m from the profile's start within `first_peak_tolerance`, then a dip and a
 /// second region whose peak is `second_ratio[0]`…`[1]` of the first; with the bookkeeping rows.
 /// The coarse level runs `coarse_end_time` with the feed thinned by `coarse_modifier` (each
-/// particle then stands for that many, `[wear] modifier`).
+/// particle then stands for that many more, `[particles] modifier`).
 fn profile(base: &Case, full: bool, plots: Option<&Path>) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     let mut case = base.clone();
     if !full {
         case.time.end_time = Some(number(base, "coarse_end_time")?);
         let thinning = number(base, "coarse_modifier")?;
-        for feed in case.particles.as_mut().map(|p| p.feed.iter_mut()).into_iter().flatten() {
-            feed.rate /= thinning;
-        }
-        if let Some(w) = case.wear.as_mut() {
-            w.modifier *= thinning;
+        if let Some(p) = case.particles.as_mut() {
+            p.feed.iter_mut().for_each(|feed| feed.rate /= thinning);
+            p.modifier *= thinning;
         }
     }
     let section = case.wear.clone().ok_or_else(|| anyhow!("{}: the wear checks need [wear]", base.path.display()))?;

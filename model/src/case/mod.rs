@@ -76,6 +76,11 @@ pub struct Case {
 }
 
 impl Case {
+    /// Real particles per simulated one, `[particles] modifier` (1 without particles).
+    pub fn particle_modifier(&self) -> f64 {
+        self.particles.as_ref().map_or(1.0, |p| p.modifier)
+    }
+
     /// Reads and validates a case file.
     pub fn load(path: &Path) -> Result<Case, CaseError> {
         let bytes = std::fs::read(path).map_err(|e| CaseError { file: path.to_path_buf(), line: None, column: None, kind: CaseErrorKind::Io(e) })?;

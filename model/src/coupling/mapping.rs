@@ -87,6 +87,9 @@ pub struct ParticleMeshMap {
     pub distance_factor: f64,
     pub interface_mask: bool,
     pub min_fluid_fraction: f64,
+    /// Real particles each simulated one stands for (`[particles] modifier`): the deposited
+    /// volume, drag coefficient and force count this many times (wear-model.md §2.4 [R]).
+    pub modifier: f64,
     /// How the stencils are built and the diffusion fields smoothed ([`MappingSolvers::IN_ORDER`]
     /// unless a solver sets its own).
     pub solvers: MappingSolvers,
@@ -187,8 +190,14 @@ impl ParticleMeshMap {
             distance_factor: section.distance_factor,
             interface_mask: section.interface_mask,
             min_fluid_fraction: section.min_fluid_fraction,
+            modifier: 1.0,
             solvers: MappingSolvers::IN_ORDER,
         }
+    }
+
+    /// The mapping of a case: its `[coupling]` with its particles' `modifier`.
+    pub fn of_case(section: &CouplingSection, case: &crate::case::Case) -> Self {
+        Self { modifier: case.particle_modifier(), ..Self::new(section) }
     }
 
     /// α_c = max(1 − α_p, α_c,min) per cell into `alpha` (T3.90); returns the number of cells
@@ -343,6 +352,13 @@ impl ParticleMeshMap {
             }
         }
         let CellSums { mut volume, mut drag, mut force } = sums;
+        if self.modifier != 1.0 {
+            // each simulated particle stands for `modifier` real ones (a linear scaling, so it
+            // may come before the diffusion's smoothing)
+            for field in [&mut volume, &mut drag].into_iter().chain(force.iter_mut()) {
+                field.iter_mut().for_each(|q| *q *= self.modifier);
+            }
+        }
         // per-volume fields for α_p and the diffusion; C and F stay totals per cell
         volume.iter_mut().zip(&mesh.cell_volumes).for_each(|(q, v)| *q /= v);
         if self.method == MappingMethod::Diffusion && !particles.is_empty() {
@@ -483,6 +499,27 @@ pub(super) mod tests {
             assert!((drag / 0.03 - 1.0).abs() < 1e-13, "{method:?}: drag {drag}");
             assert!((force - Vec3::new(0.6, -3.0, 0.4)).norm() < 1e-13, "{method:?}: force {force}");
             assert!(cells.masked.iter().all(|m| !m), "{method:?}: no interface, no mask");
+        }
+    }
+
+    /// Representative particles (wear-model.md §2.4 [R]): with `modifier` m every cell receives
+    /// m times the volume, drag coefficient and force of one particle each, for all three methods.
+    /// m = 8 is a power of two, so the scaling is exact and the fields must agree bit for bit.
+    #[test]
+    fn a_modifier_counts_each_particle_that_many_times() {
+        let mesh = Mesh::cartesian_box(&BoxSpec::uniform(Vec3::zeros(), Vec3::new(0.2, 0.3, 0.02), [20, 30, 1])).unwrap();
+        let particles = [particle(Vec3::new(0.1, 0.15, 0.01), 0.01), particle(Vec3::new(0.004, 0.29, 0.01), 0.01)];
+        let load = load(&particles);
+        for method in [MappingMethod::Centroid, MappingMethod::Kernel, MappingMethod::Diffusion] {
+            let (mut one, mut eight) = (CellLoad::default(), CellLoad::default());
+            map(method, false).deposit(&mesh, &particles, &load, &mut one);
+            ParticleMeshMap { modifier: 8.0, ..map(method, false) }.deposit(&mesh, &particles, &load, &mut eight);
+            assert!(one.particle_fraction.iter().any(|a| *a > 0.0), "{method:?}: nothing deposited");
+            for c in 0..mesh.n_cells() {
+                assert_eq!(eight.particle_fraction[c], 8.0 * one.particle_fraction[c], "{method:?}: α_p of cell {c}");
+                assert_eq!(eight.implicit_drag[c], 8.0 * one.implicit_drag[c], "{method:?}: drag of cell {c}");
+                assert_eq!(eight.explicit_force[c], one.explicit_force[c] * 8.0, "{method:?}: force of cell {c}");
+            }
         }
     }
 

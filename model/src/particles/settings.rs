@@ -47,6 +47,12 @@ pub struct ParticlesSection {
     /// `"drag_and_buoyancy"`.
     #[serde(default)]
     pub fluid_forces: FluidForces,
+    /// Real particles each simulated one stands for (wear-model.md §8, Eq. 4.9, the thesis'
+    /// "particle scaling"): its volume and its forces on the fluid count this many times in the
+    /// coupling (§2.4 [R]), and its impacts this many times in the wear (§7.1). Its own motion
+    /// is that of one real particle. Default 1.
+    #[serde(default = "one")]
+    pub modifier: f64,
 }
 
 /// `[particles] fluid_forces`: the particle equation's fluid forces.
@@ -159,6 +165,7 @@ impl ParticlesSection {
         }
         positive("particles.steps_per_collision", self.steps_per_collision, "sub-steps per collision")?;
         positive("particles.collision_speed", self.collision_speed, "m/s")?;
+        positive("particles.modifier", self.modifier, "(real particles per simulated one)")?;
         if let Some(dt) = self.substep {
             positive("particles.substep", dt, "s")?;
         }

@@ -166,7 +166,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             (None, Some(p)) => p.name(),
             (None, None) => unreachable!("checked above"),
         };
-        let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(ParticleMeshMap::new);
+        let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(|section| ParticleMeshMap::of_case(section, case));
         let g = Vec3::from(case.physics.gravity);
         let down = (g.norm() > 0.0).then(|| g.normalize());
         let head = match (&case.cutter_head, &fluid) {

@@ -71,9 +71,10 @@ pub struct WearSection {
     /// the multiplier it is used as; the printed ratio is upside down).
     #[serde(default = "one")]
     pub acceleration: f64,
-    /// Real particles per simulated particle (Eq. 4.9).
-    #[serde(default = "one")]
-    pub modifier: f64,
+    /// Retired: real particles per simulated one is `[particles] modifier` now, since it counts
+    /// in the coupling as well as in the wear. Kept only to say so when a case still sets it.
+    #[serde(default)]
+    pub modifier: Option<f64>,
     /// Arabnejad cutting angle function (§6.4 switch 4); read by `law = "arabnejad"` only.
     #[serde(default)]
     pub angle_function: AngleFunctionForm,
@@ -382,7 +383,13 @@ impl WearSection {
         if !(self.acceleration.is_finite() && self.acceleration >= 1.0) {
             return Err(FieldError::new("wear.acceleration", self.acceleration, "a factor ≥ 1 (T_actual / T_sim, wear-model.md §8)"));
         }
-        positive("wear.modifier", self.modifier, "(real particles per simulated one)")?;
+        if let Some(m) = self.modifier {
+            return Err(FieldError::new(
+                "wear.modifier",
+                m,
+                "no value here: real particles per simulated one is `modifier` in [particles] now (it counts in the coupling too)",
+            ));
+        }
         // The law's sub-section, the material constants it reads and their ranges.
         super::laws::ErosionLaw::from_section(self)?;
         if let Some(sm) = &self.smoothing {
@@ -433,5 +440,14 @@ mod tests {
             let err = parse(text).validate(&["box"]).unwrap_err();
             assert_eq!(err.key, key, "{text}");
         }
+    }
+
+    /// The key moved to `[particles]` (it counts in the coupling too): a case that still sets it
+    /// is told where it went, not silently given a modifier of 1.
+    #[test]
+    fn the_retired_wear_modifier_says_where_it_went() {
+        let err = parse("law = \"arabnejad\"\nmodifier = 100.0\n[material]\npreset = \"carbon_steel_1018\"\n").validate(&["box"]).unwrap_err();
+        assert_eq!(err.key, "wear.modifier");
+        assert!(err.allowed.contains("[particles]"), "{}", err.allowed);
     }
 }

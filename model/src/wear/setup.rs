@@ -118,7 +118,7 @@ impl WearSetup {
         }
         Ok(WearSetup {
             law,
-            scale: section.modifier * section.acceleration,
+            scale: case.particle_modifier() * section.acceleration,
             smoothing: section.smoothing.as_ref().map(|s| (s.diffusivity, s.damping)),
             receding: section.receding,
             histogram_max_speed: section.histogram_max_speed,

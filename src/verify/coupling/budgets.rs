@@ -134,11 +134,14 @@ fn budget_of<F: FluidPhase, P: ParticlePhase>(case: &Case, mut run: Coupled<F, P
     let mesh = run.mesh().ok_or_else(|| anyhow!("no mesh"))?.clone();
     let box_volume: f64 = mesh.cell_volumes.iter().sum();
     let created = run.state().particles.as_ref().ok_or_else(|| anyhow!("no particles"))?.counts.created;
+    // each simulated particle stands for `modifier` real ones in the fluid's load, so the
+    // particle side of every balance counts them that many times
+    let modifier = case.particle_modifier();
     let momenta = |run: &Coupled<F, P>| -> Result<(Vec3, Vec3)> {
         let state = run.state();
         let fluid = state.fluid.as_ref().ok_or_else(|| anyhow!("no fluid"))?;
         let particles = state.particles.as_ref().ok_or_else(|| anyhow!("no particles"))?;
-        Ok((fluid_momentum(&mesh, &fluid.alpha, &fluid.velocity, rho_c), particles.particles.iter().map(|p| p.velocity * p.mass()).sum()))
+        Ok((fluid_momentum(&mesh, &fluid.alpha, &fluid.velocity, rho_c), particles.particles.iter().map(|p| p.velocity * (p.mass() * modifier)).sum()))
     };
     let (mut fluid_now, mut particles_now) = momenta(&run)?;
     let mut fluid_before = fluid_now;
@@ -162,10 +165,10 @@ fn budget_of<F: FluidPhase, P: ParticlePhase>(case: &Case, mut run: Coupled<F, P
             run.fluid_at_particles(),
         );
         let rate = (fluid_next * c0 + fluid_now * c1 + fluid_before * c2) / dt + (particles_next - particles_now) / dt;
-        let submerged: Vec3 = particles.iter().map(|p| g * (p.volume() * (p.density - rho_c))).sum();
+        let submerged: Vec3 = particles.iter().map(|p| g * (modifier * p.volume() * (p.density - rho_c))).sum();
         let gravity = g * (rho_c * box_volume) + submerged;
         let walls = wall_force(case, &mesh, &fluid.alpha, &fluid.velocity, &fluid.boundary_pressure, rho_c, nu)?;
-        let seen_by_particles: Vec3 = (0..particles.len()).map(|n| seen[n].map_or(Vec3::zeros(), |f| f.velocity) * load.implicit_drag[n]).sum();
+        let seen_by_particles: Vec3 = (0..particles.len()).map(|n| seen[n].map_or(Vec3::zeros(), |f| f.velocity) * (modifier * load.implicit_drag[n])).sum();
         let fluid_implicit: Vec3 = (0..fluid.velocity.len()).map(|c| Vec3::from(fluid.velocity[c]) * cells.implicit_drag[c]).sum();
         let split = seen_by_particles - fluid_implicit;
         let weight = submerged.norm();
@@ -174,7 +177,7 @@ fn budget_of<F: FluidPhase, P: ParticlePhase>(case: &Case, mut run: Coupled<F, P
         budget.without_split = budget.without_split.max(open.norm() / weight);
         budget.split = budget.split.max(split.norm() / weight);
         let fluid_volume: f64 = fluid.alpha.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v).sum();
-        let solid: f64 = particles.iter().map(|p| p.volume()).sum();
+        let solid: f64 = particles.iter().map(|p| modifier * p.volume()).sum();
         budget.volume = budget.volume.max((fluid_volume + solid - box_volume).abs() / box_volume);
         let logged = state.particles.as_ref().map_or(0, |p| p.escaped());
         budget.unaccounted += created.abs_diff(particles.len() as u64 + logged);
@@ -201,10 +204,14 @@ pub(super) fn budgets(base: &Case, solver: FluidSolver) -> Result<Vec<CheckRow>>
     let target = number(base, "fraction")?;
     let closed_tolerance = number(base, "closed_tolerance")?;
     let split_tolerance = number(base, "split_tolerance")?;
+    // representative particles: the same suspension as `representative_modifier` times fewer
+    // simulated particles, each standing for that many (wear-model.md §2.4 [R], §8)
+    let representative = number(base, "representative_modifier")?;
     let mut rows = Vec::new();
-    for feedback in [Feedback::DragAndFluidAcceleration, Feedback::Literal] {
-        let (mut case, _) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
+    for (feedback, modifier) in [(Feedback::DragAndFluidAcceleration, 1.0), (Feedback::Literal, 1.0), (Feedback::DragAndFluidAcceleration, representative)] {
+        let (mut case, _) = cloud_case(base, target / modifier, cell, width, [cloud[0], cloud[1]])?;
         case.coupling.as_mut().ok_or_else(|| anyhow!("needs [coupling]"))?.feedback = feedback;
+        case.particles.as_mut().ok_or_else(|| anyhow!("needs [particles]"))?.modifier = modifier;
         let b = run_budget(&case, solver)?;
         if feedback == Feedback::Literal {
             // the literal feedback adds the submerged weight a second time: the budget must miss
@@ -219,12 +226,13 @@ pub(super) fn budgets(base: &Case, solver: FluidSolver) -> Result<Vec<CheckRow>>
             continue;
         }
         let steps = b.steps;
+        let each = if modifier == 1.0 { String::new() } else { format!(", each particle standing for {modifier}") };
         // `closed_tolerance`: the PIMPLE outer loop's convergence (p_initial_residual), the only
         // inexact part once the split S is counted; measured 7.6e-8 of W (7.3e-12 with the
         // loop run to a residual of 1e-9)
         rows.push(CheckRow::at_most(
             name,
-            format!("momentum budget with the split S, worst of {steps} steps: |…| / W"),
+            format!("momentum budget with the split S, worst of {steps} steps: |…| / W{each}"),
             solver.label(),
             b.closed,
             closed_tolerance,
@@ -233,18 +241,24 @@ pub(super) fn budgets(base: &Case, solver: FluidSolver) -> Result<Vec<CheckRow>>
         // against the new φ-weighted one in the fluid), first order in Δt; measured 1.25e-3 of W
         rows.push(CheckRow::at_most(
             name,
-            format!("momentum budget without S, worst of {steps} steps: |…| / W"),
+            format!("momentum budget without S, worst of {steps} steps: |…| / W{each}"),
             solver.label(),
             b.without_split,
             split_tolerance,
         ));
-        rows.push(CheckRow::at_most(name, "split |S| / W (information: what the budget without S misses)", solver.label(), b.split, split_tolerance));
+        rows.push(CheckRow::at_most(
+            name,
+            format!("split |S| / W (information: what the budget without S misses){each}"),
+            solver.label(),
+            b.split,
+            split_tolerance,
+        ));
         // round-off of sums over ~800 cells and ~300 particles (the mapping is exactly
         // conservative and nothing is clamped at α_p = 0.1)
-        rows.push(CheckRow::at_most(name, "volume budget |Σ α_c V + Σ V_p − V_box| / V_box, worst step", solver.label(), b.volume, 1e-13));
-        rows.push(CheckRow::at_most(name, "particles neither in the box nor logged as escaped", solver.label(), b.unaccounted as f64, 0.0));
+        rows.push(CheckRow::at_most(name, format!("volume budget |Σ α_c V + Σ V_p − V_box| / V_box, worst step{each}"), solver.label(), b.volume, 1e-13));
+        rows.push(CheckRow::at_most(name, format!("particles neither in the box nor logged as escaped{each}"), solver.label(), b.unaccounted as f64, 0.0));
         // the premise of "no particle–wall contact force" in the budget
-        rows.push(CheckRow::at_least(name, "smallest particle–wall gap [m] (no wall contact)", solver.label(), b.wall_gap, 0.0));
+        rows.push(CheckRow::at_least(name, format!("smallest particle–wall gap [m] (no wall contact){each}"), solver.label(), b.wall_gap, 0.0));
     }
     Ok(rows)
 }
