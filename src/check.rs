@@ -469,10 +469,27 @@ fn particle_lines(case: &Case) -> Vec<String> {
         });
     }
     if case.fluid.is_some() {
-        let represents = if p.modifier == 1.0 { String::new() } else { format!("; each simulated particle counts as {} real ones (modifier)", p.modifier) };
+        use spillage_model::coupling::{Feedback, MappingMethod};
+        let represents = |r#where: &str| match p.modifier {
+            1.0 => String::new(),
+            m => format!("; each particle counts as {m} real ones {where} ([particles] modifier)"),
+        };
         lines.push(match &case.coupling {
-            Some(c) => format!("coupling     two-way: {:?} mapping, γ = {} (σ = γ d_p), feedback {:?}{represents}", c.method, c.distance_factor, c.feedback),
-            None => format!("coupling     one-way: the fluid does not feel the particles (no [coupling]){represents}"),
+            Some(c) => format!(
+                "coupling     two-way: method \"{}\", γ = {} (σ = γ d_p), feedback \"{}\"{}",
+                match c.method {
+                    MappingMethod::Centroid => "centroid",
+                    MappingMethod::Kernel => "kernel",
+                    MappingMethod::Diffusion => "diffusion",
+                },
+                c.distance_factor,
+                match c.feedback {
+                    Feedback::DragAndFluidAcceleration => "drag_and_fluid_acceleration",
+                    Feedback::Literal => "literal",
+                },
+                represents("in the water and on the walls")
+            ),
+            None => format!("coupling     one-way: the fluid does not feel the particles (no [coupling]){}", represents("on the walls")),
         });
     }
     if let Some((rho_f, nu)) = fluid {

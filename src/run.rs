@@ -150,6 +150,7 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
         step_seconds: 0.0,
         particle_substeps: 0.0,
         outer: OuterLoop::default(),
+        packing: Packing::default(),
         start_up: (0, 0.0),
     };
     // the time loop runs on one of the pool's workers: its parallel loops then start there,
@@ -213,6 +214,9 @@ pub fn run(opts: &RunOptions) -> anyhow::Result<ExitCode> {
     if let Some(note) = run.outer.retry_note(run.steps) {
         eprintln!("{note}");
     }
+    if let Some(warning) = run.packing.warning(&case, run.steps) {
+        eprintln!("{warning}");
+    }
     if run.start_up.0 > 0 {
         eprintln!("frozen-rotor start-up: {} steps (t ≤ 0 in series.csv) in {:.1} s", run.start_up.0, run.start_up.1);
     }
@@ -253,6 +257,7 @@ struct Running<'a> {
     /// Σ DEM sub-steps × particles over the steps run (the DEM's work, for its speed).
     particle_substeps: f64,
     outer: OuterLoop,
+    packing: Packing,
     /// Steps and seconds of a frozen-rotor start-up (the steps that end at t ≤ 0,
     /// spillage_model::fluid::frozen_rotor).
     start_up: (u64, f64),
@@ -301,6 +306,41 @@ impl OuterLoop {
             format!(
                 "warning: the outer loop stopped at its cap of {} iterations in {} of {steps} steps with the pressure residual above its target (up to {:.2e} > {:.1e}): those steps are not converged; raise [numerics] max_outer_iterations or lower the time step",
                 case.numerics.max_outer_iterations, self.capped, self.worst_residual, case.numerics.p_initial_residual
+            )
+        })
+    }
+}
+
+/// Steps in which cells were held at `[coupling] min_fluid_fraction` (`alpha_c_clamped` in the
+/// series): the particles there stood for more volume than the fluid equations can give up, so
+/// the water saw less of them than there was.
+#[derive(Default)]
+struct Packing {
+    steps: u64,
+    most_cells: f64,
+    largest_fraction: f64,
+}
+
+impl Packing {
+    fn record(&mut self, report: &StepReport) {
+        let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        if let Some(cells) = value("alpha_c_clamped").filter(|c| *c > 0.0) {
+            self.steps += 1;
+            self.most_cells = self.most_cells.max(cells);
+            self.largest_fraction = self.largest_fraction.max(value("alpha_p_max").unwrap_or(0.0));
+        }
+    }
+
+    /// The warning to print at the end, if any cell was held at the floor.
+    fn warning(&self, case: &Case, steps: u64) -> Option<String> {
+        let floor = case.coupling.as_ref()?.min_fluid_fraction;
+        (self.steps > 0).then(|| {
+            format!(
+                "warning: α_c was held at its floor [coupling] min_fluid_fraction = {floor} in up to {} cells (in {} of {steps} steps; α_p up to {:.3}; `alpha_c_clamped` in series.csv): the particles there stand for more volume than the cells hold. A wider kernel ([coupling] distance_factor) spreads a particle larger than its cells; particles counting {} times ([particles] modifier) pack past α_max = 0.6, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)",
+                self.most_cells,
+                self.steps,
+                self.largest_fraction,
+                case.particle_modifier()
             )
         })
     }
@@ -373,6 +413,7 @@ impl Running<'_> {
             self.series = Some((writer, report.clone(), Vec::with_capacity(columns.len())));
         }
         self.outer.record(report);
+        self.packing.record(report);
         let value = |key: &str| report.values.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
         if let (Some(substeps), Some(particles)) = (value("substeps"), value("particles")) {
             self.particle_substeps += substeps * particles;

@@ -144,3 +144,24 @@ fn every_toml_snippet_of_the_readme_is_accepted_by_check() {
         assert!(out.status.success(), "README snippet {k} is refused by `spillage check`:\n{snippet}\n{}", String::from_utf8_lossy(&out.stderr));
     }
 }
+
+/// `spillage check` says whether the water feels the particles, and how many real particles each
+/// simulated one counts for, where it counts: one-way with the modifier on the walls only (the
+/// fine sand), two-way in the water and on the walls.
+#[test]
+fn check_says_how_the_particles_are_coupled() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let cases = [
+        ("cases/verification/coupling/settling_single.toml", "coupling     two-way: method \"kernel\""),
+        (
+            "cases/wear/coriolis_fine_sand.toml",
+            "coupling     one-way: the fluid does not feel the particles (no [coupling]); each particle counts as 100 real ones on the walls",
+        ),
+    ];
+    for (case, needle) in cases {
+        let out = spillage(&["check", root.join(case).to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains(needle), "{case}: {needle:?} not in\n{text}");
+    }
+}

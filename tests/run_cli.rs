@@ -279,6 +279,7 @@ fn a_two_way_coupled_run_writes_the_coupling_fields() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(!stderr.contains("one-way coupling"), "a case with [coupling] is two-way coupled: {stderr}");
+    assert!(!stderr.contains("α_c was held"), "a lone sphere (α_p ≤ 0.07) leaves the fluid room: {stderr}");
 
     let last_frame = |pvd: &str| {
         let frames = read_pvd(&out.join(pvd)).unwrap();
@@ -484,4 +485,20 @@ fn steps_capped_by_the_outer_loop_are_reported() {
     let quiet = fluid_case(&dir, 2);
     let out = spillage(&["run", quiet.to_str().unwrap(), "--out", dir.join("quiet").to_str().unwrap()]);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("outer loop stopped"));
+}
+
+/// A particle standing for more volume than its cells hold (here one sphere counting 100 times:
+/// α_p ≈ 6.5 in its 2 cm cells) holds α_c at its floor; the run says so at the end instead of
+/// finishing as if the water had seen it all.
+#[test]
+fn cells_held_at_the_fluid_fraction_floor_are_reported() {
+    let dir = scratch("packed");
+    let case = settling_case(&dir);
+    let text = std::fs::read_to_string(&case).unwrap().replace("[particles]\n", "[particles]\nmodifier = 100.0\n");
+    std::fs::write(&case, text).unwrap();
+    let out = spillage(&["run", case.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("warning: α_c was held at its floor [coupling] min_fluid_fraction = 0.05"), "{err}");
+    assert!(err.contains("in 10 of 10 steps") && err.contains("counting 100 times"), "{err}");
 }

@@ -395,13 +395,34 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) 
         (std::borrow::Cow::Borrowed(base), numbers(base, "cloud")?)
     };
     let base = base.as_ref();
+    // each mapping with one simulated particle per real one, and the representative particles
+    // (wear-model.md §2.4 [R], §8): `representative_modifier` times fewer, each standing for
+    // that many in the fluid's load, must settle as the cloud they stand for
+    let mut runs: Vec<(String, f64)> = mappings.iter().map(|m| (m.clone(), 1.0)).collect();
+    if params(base)?.contains_key("representative_modifier") {
+        let mapping = params(base)?
+            .get("representative_mapping")
+            .and_then(|v| v.as_str())
+            .ok_or_else(|| anyhow!("verify.params.representative_mapping: a mapping such as \"kernel:3\""))?;
+        runs.push((mapping.to_string(), number(base, "representative_modifier")?));
+    }
+    let label = |mapping: &str, modifier: f64| {
+        let mapping = mapping.replace(':', " γ = ");
+        if modifier == 1.0 {
+            mapping
+        } else {
+            format!("{mapping}, each particle for {modifier}")
+        }
+    };
     let mut rows = Vec::new();
-    let mut measured_points: Vec<(String, Vec<(f64, f64)>)> = mappings.iter().map(|m| (m.replace(':', " γ = "), Vec::new())).collect();
+    let mut measured_points: Vec<(String, Vec<(f64, f64)>)> = runs.iter().map(|(m, modifier)| (label(m, *modifier), Vec::new())).collect();
     for &target in &fractions {
         let table = TABLE_6_3.iter().find(|(a, _)| (a - target).abs() < 1e-9).map(|(_, u)| *u);
-        for (k, mapping) in mappings.iter().enumerate() {
+        for (k, (mapping, modifier)) in runs.iter().enumerate() {
             let (m, gamma) = parse_mapping(mapping)?;
-            let (mut case, alpha_p) = cloud_case(base, target, cell, width, [cloud[0], cloud[1]])?;
+            let (mut case, simulated) = cloud_case(base, target / modifier, cell, width, [cloud[0], cloud[1]])?;
+            case.particles.as_mut().ok_or_else(|| anyhow!("needs [particles]"))?.modifier = *modifier;
+            let alpha_p = simulated * modifier;
             set_mapping(&mut case, method(m)?, gamma)?;
             let trace = run(&case, solver)?;
             let measured = window_mean(&trace, [window[0], window[1]]);
@@ -414,9 +435,10 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) 
                 Some(u) => u + closure - cloud_settling_velocity(&sphere, target, CloudReconstruction::SlipVelocity)?.particle_velocity,
                 None => closure,
             };
+            let each = if *modifier == 1.0 { String::new() } else { format!(" ({} times fewer particles, each for {modifier})", modifier) };
             rows.push(CheckRow::relative(
                 name,
-                format!("{m} γ={gamma} α_p={alpha_p:.3}: median settling velocity vs Table 6.3"),
+                format!("{m} γ={gamma} α_p={alpha_p:.3}{each}: median settling velocity vs Table 6.3"),
                 solver.label(),
                 measured,
                 reference,

@@ -446,7 +446,7 @@ pub struct FeedSection {
     pub material: String,
     pub diameter: Diameter,
     pub region: BoxRegion,
-    /// Particles per second.
+    /// Simulated particles per second (each standing for `[particles] modifier` real ones).
     pub rate: f64,
     #[serde(default)]
     pub velocity: [f64; 3],
