@@ -487,9 +487,12 @@ fn particle_lines(case: &Case) -> Vec<String> {
                     Feedback::DragAndFluidAcceleration => "drag_and_fluid_acceleration",
                     Feedback::Literal => "literal",
                 },
-                represents("in the water and on the walls")
+                represents(if case.wear.is_some() { "in the water and on the walls" } else { "in the water" })
             ),
-            None => format!("coupling     one-way: the fluid does not feel the particles (no [coupling]){}", represents("on the walls")),
+            None => format!(
+                "coupling     one-way: the fluid does not feel the particles (no [coupling]){}",
+                if case.wear.is_some() { represents("on the walls") } else { String::new() }
+            ),
         });
     }
     if let Some((rho_f, nu)) = fluid {

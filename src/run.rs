@@ -336,11 +336,14 @@ impl Packing {
         let floor = case.coupling.as_ref()?.min_fluid_fraction;
         (self.steps > 0).then(|| {
             format!(
-                "warning: α_c was held at its floor [coupling] min_fluid_fraction = {floor} in up to {} cells (in {} of {steps} steps; α_p up to {:.3}; `alpha_c_clamped` in series.csv): the particles there stand for more volume than the cells hold. A wider kernel ([coupling] distance_factor) spreads a particle larger than its cells; particles counting {} times ([particles] modifier) pack past α_max = 0.6, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)",
+                "warning: α_c was held at its floor [coupling] min_fluid_fraction = {floor} in up to {} cells (in {} of {steps} steps; α_p up to {:.3}; `alpha_c_clamped` in series.csv): the particles there stand for more volume than the cells hold. A wider kernel ([coupling] distance_factor) spreads a particle larger than its cells{}",
                 self.most_cells,
                 self.steps,
                 self.largest_fraction,
-                case.particle_modifier()
+                match case.particle_modifier() {
+                    1.0 => String::new(),
+                    m => format!("; particles counting {m} times ([particles] modifier) pack past α_max = 0.6, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)"),
+                }
             )
         })
     }

@@ -76,12 +76,12 @@ impl WindowRule {
 /// clipped to the window. With a fixed step this is the plain mean of the rows in the window;
 /// with a Courant-controlled step, long steps weigh more, as they should. `None` without rows;
 /// the last value when the window holds no time (a single row at t = 0).
-pub fn window_mean(times: &[f64], values: &[f64], (start, end): (f64, f64)) -> Option<f64> {
+pub fn window_mean(times: &[f64], values: &[f64], window: (f64, f64)) -> Option<f64> {
     let last = *values.last()?;
     let (mut weighted, mut total) = (0.0, 0.0);
     let mut previous = 0.0_f64;
     for (&time, &value) in times.iter().zip(values) {
-        let weight = (time.min(end) - previous.max(start)).max(0.0);
+        let weight = spillage_model::output::series::time_in_window(previous, time, window);
         weighted += weight * value;
         total += weight;
         previous = time;

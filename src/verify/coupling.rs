@@ -435,7 +435,7 @@ fn hindered(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) 
                 Some(u) => u + closure - cloud_settling_velocity(&sphere, target, CloudReconstruction::SlipVelocity)?.particle_velocity,
                 None => closure,
             };
-            let each = if *modifier == 1.0 { String::new() } else { format!(" ({} times fewer particles, each for {modifier})", modifier) };
+            let each = if *modifier == 1.0 { String::new() } else { format!(" ({modifier} times fewer particles, each for {modifier})") };
             rows.push(CheckRow::relative(
                 name,
                 format!("{m} γ={gamma} α_p={alpha_p:.3}{each}: median settling velocity vs Table 6.3"),

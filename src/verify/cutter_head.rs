@@ -98,11 +98,11 @@ pub fn mean_fluxes(case: &Case) -> Result<HeadMeans> {
     while !spillage_model::step::reached_end_time(run.state().time, end) {
         let report = run.step()?;
         let value = |name: &str| report.values.iter().find(|(n, _)| *n == name).map(|v| v.1).ok_or_else(|| anyhow!("no `{name}` in the step report"));
-        // the step straddling the window's start counts with its part inside, as the sweep's
-        // and the run's means do (sweep::table::window_mean)
+        // weighted as the sweep's and the run's means: the step straddling the window's start
+        // with its part inside
         let (time, dt) = (run.state().time, run.state().dt);
-        let dt = dt.min(time - from);
-        if time > from {
+        let dt = spillage_model::output::series::time_in_window(time - dt, time, (from, f64::INFINITY));
+        if dt > 0.0 {
             for (sum, name) in sums.iter_mut().zip(COLUMNS) {
                 *sum += value(name)? * dt;
             }

@@ -56,7 +56,14 @@ impl Fingerprint {
         if let Some(p) = &case.particles {
             let names: Vec<&str> = p.materials.iter().map(|m| m.name.as_str()).collect();
             parts.push(part("particle materials", format!("materials {names:?}"), &format!("{:?}", p.materials)));
-            parts.push(part("particle set", format!("{} particle groups and {} feeds", p.groups.len(), p.feed.len()), &format!("{:?}{:?}", p.groups, p.feed)));
+            // the modifier weighs the checkpoint's α_c time levels; left out at 1 so that older
+            // checkpoints, written before it existed, still match
+            let each = if p.modifier == 1.0 { String::new() } else { format!(", each for {} real ones", p.modifier) };
+            parts.push(part(
+                "particle set",
+                format!("{} particle groups and {} feeds{each}", p.groups.len(), p.feed.len()),
+                &format!("{:?}{:?}{each}", p.groups, p.feed),
+            ));
         }
         let turbulence = if case.turbulence.is_k_epsilon() { "the realizable k–ε model" } else { "laminar flow" };
         parts.push(part("turbulence model", turbulence.to_string(), &format!("{:?}", case.turbulence.model)));

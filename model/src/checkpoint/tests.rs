@@ -172,3 +172,17 @@ fn an_older_version_says_rerun_from_the_start() {
     let err = read(&path, &demo()).unwrap_err().to_string();
     assert!(err.contains("written by an older spillage") && err.contains("rerun the case from the start"), "{err}");
 }
+
+/// The modifier weighs the checkpoint's α_c time levels: a restart with another one is refused,
+/// naming it; one that never set it (modifier 1) still matches a case that sets 1.
+#[test]
+fn a_checkpoint_of_another_particle_modifier_is_refused() {
+    let case = demo();
+    let mut four = case.clone();
+    four.particles.as_mut().unwrap().modifier = 4.0;
+    let err = Fingerprint::of_case(&four).compare(&Fingerprint::of_case(&case)).unwrap_err();
+    assert!(err.contains("each for 4 real ones"), "{err}");
+    let mut one = case.clone();
+    one.particles.as_mut().unwrap().modifier = 1.0;
+    assert!(Fingerprint::of_case(&one).compare(&Fingerprint::of_case(&case)).is_ok());
+}

@@ -114,6 +114,13 @@ impl SeriesTable {
     }
 }
 
+/// How much of the step (`step_start`, `step_end`] lies in the window [start, end] [s]: the
+/// weight of the step's row in a time-weighted mean over the window (a Courant-controlled step
+/// is not uniform; the step straddling an edge counts with its part inside).
+pub fn time_in_window(step_start: f64, step_end: f64, (start, end): (f64, f64)) -> f64 {
+    (step_end.min(end) - step_start.max(start)).max(0.0)
+}
+
 /// Reads a series file, refusing ragged rows and unparsable numbers (with their line number).
 pub fn read_series(path: &Path) -> Result<SeriesTable, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io(path, e))?;

@@ -34,7 +34,7 @@ pub fn displacement_scale(coefficients: [f64; 3], side: f64, target: f64, wall: 
 /// (its triangles would fold), near `centre` (body frame).
 pub fn inside_out(wall: &str, centre: Vec3) -> String {
     format!(
-        "wall `{wall}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or modifier, or widen [wear.smoothing]",
+        "wall `{wall}` would turn inside out near ({:.4}, {:.4}, {:.4}) m (body frame): the wear of one step is deeper than its triangles are wide; lower [wear] acceleration or [particles] modifier, or widen [wear.smoothing]",
         centre.x, centre.y, centre.z
     )
 }

@@ -387,7 +387,7 @@ impl WearSection {
             return Err(FieldError::new(
                 "wear.modifier",
                 m,
-                "no value here: real particles per simulated one is `modifier` in [particles] now (it counts in the coupling too)",
+                format!("nothing here: move `modifier = {m}` to [particles] (real particles per simulated one; it counts in the coupling too)"),
             ));
         }
         // The law's sub-section, the material constants it reads and their ranges.

@@ -35,7 +35,8 @@ pub(super) fn interface_crossing(base: &Case, full: bool, solver: FluidSolver) -
         Some(factor) if full => refined(base, factor as usize)?,
         _ => base.clone(),
     };
-    let volume = sphere(&case, 0.5)?.volume();
+    // what the sphere stands for in the fluid's continuity
+    let volume = case.particle_modifier() * sphere(&case, 0.5)?.volume();
     let plain = run(&without_interface(&case)?, solver)?;
     let mut rows = Vec::new();
     let mut largest = [0.0f64; 2];
