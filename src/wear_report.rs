@@ -35,7 +35,7 @@ pub fn report(case: &Case, state: &State, out: &Path) -> anyhow::Result<Vec<Stri
     let deposited: f64 = wear.walls.iter().map(|w| w.deposited).sum();
     let receded: f64 = wear.walls.iter().map(|w| w.receded).sum();
     lines.push(format!(
-        "wear bookkeeping  deposited {deposited:.6e} m³ = receded {receded:.6e} m³ + still smoothing {:.6e} m³ (× modifier {} × acceleration {})",
+        "wear bookkeeping  deposited {deposited:.6e} m³ = receded {receded:.6e} m³ + still smoothing {:.6e} m³ (× [particles] modifier {} × [wear] acceleration {})",
         deposited - receded,
         case.particle_modifier(),
         section.acceleration
