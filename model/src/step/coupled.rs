@@ -366,6 +366,9 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             }
             let mesh = self.fluid.as_ref().map(|f| f.mesh());
             let closed = &self.closed_patches;
+            // a receding wall's crater lies beyond the fluid mesh (which does not follow the
+            // wear), as deep as the wall has receded: a particle in it has not left
+            let crater = self.state.wear.as_ref().map_or(0.0, |w| w.walls.iter().flat_map(|w| &w.node_depth).fold(0.0, |a: f64, d| a.max(*d)));
             let domain = section.domain.clone();
             let head = self.head.as_ref().map(|(h, _)| h);
             let (mut index, mut gone) = (0, Vec::new());
@@ -374,7 +377,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                     // a head's particles leave by its rules (its solids' staircase cells are
                     // no exit)
                     Some(head) => exit_route(domain.as_ref(), None, &[], &p.position, p.diameter).or_else(|| spillage::exit_route(head, &p.position)),
-                    None => exit_route(domain.as_ref(), mesh, closed, &p.position, p.diameter),
+                    None => exit_route(domain.as_ref(), mesh, closed, &p.position, p.diameter + crater),
                 };
                 if route.is_some() {
                     gone.push(index);
