@@ -389,7 +389,34 @@ fn wear_lines(case: &Case) -> Vec<String> {
 pub fn warnings(case: &Case) -> Vec<String> {
     let mut warnings = spillage_model::case::unusual::warnings(case);
     warnings.extend(profile_coverage(case).and_then(|(_, warning)| warning));
+    warnings.extend(representative_packing(case));
     warnings
+}
+
+/// The solids fraction past which nothing keeps representative particles apart: α_max of the
+/// thesis' solids pressure (wear-model.md §4.3), which is not modelled.
+const MAX_PACKING: f64 = 0.6;
+
+/// Representative particles in the water (`[particles] modifier` m with `[coupling]`): one
+/// hexagonal layer of spheres of diameter d resting on a wall fills π/(3√3) d/h of cells h
+/// tall, and stands for m times that. Past α_max only the simulated particles' own contacts,
+/// m times too few, hold them apart, and α_c reaches its floor (the thesis' fine sand: 0.60 ×
+/// 100 × 0.1 mm / 1 mm = 6.0, where its run held α_c at the floor with α_p up to 5.4).
+fn representative_packing(case: &Case) -> Option<String> {
+    let p = case.particles.as_ref().filter(|p| p.modifier > 1.0 && case.coupling.is_some())?;
+    let (_, d) = diameter_range(p)?;
+    let h = derive(case).min_cell_size?;
+    let layer = p.modifier * std::f64::consts::PI / (3.0 * 3f64.sqrt()) * d / h;
+    (layer > MAX_PACKING).then(|| {
+        format!(
+            "particles.modifier = {}: a single layer of the {d:e} m particles on a wall stands for α_p ≈ {layer:.2} in the {h:.3e} m cells (0.60 × modifier × d/h), past α_max = {MAX_PACKING}, which real particles cannot reach: only the simulated particles' own contacts keep them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled){}; a smaller modifier or larger cells keep it below",
+            p.modifier,
+            match case.coupling.as_ref().map(|c| c.min_fluid_fraction) {
+                Some(floor) if layer > 1.0 - floor => format!(", and past 1 − min_fluid_fraction = {} α_c is held at its floor", 1.0 - floor),
+                _ => String::new(),
+            }
+        )
+    })
 }
 
 /// `[wear.profile]`: how many of its bins lie over the eroding walls as built, and a warning
@@ -427,10 +454,9 @@ fn turbulence_lines(case: &Case, d: &Derived) -> Vec<String> {
     lines
 }
 
-fn particle_lines(case: &Case) -> Vec<String> {
-    use spillage_model::closure::{collision_time, restitution};
-    use spillage_model::particles::settings::{FluidForces, GroupSection};
-    let Some(p) = &case.particles else { return Vec::new() };
+/// The smallest and largest diameter placed or fed (`None` without particles).
+fn diameter_range(p: &spillage_model::particles::settings::ParticlesSection) -> Option<(f64, f64)> {
+    use spillage_model::particles::settings::GroupSection;
     let mut diameters: Vec<(f64, f64)> = p.feed.iter().map(|f| (f.diameter.smallest(), f.diameter.largest())).collect();
     diameters.extend(p.groups.iter().map(|g| match g {
         GroupSection::List { diameter, .. }
@@ -438,7 +464,14 @@ fn particle_lines(case: &Case) -> Vec<String> {
         | GroupSection::HeadLattice { diameter, .. }
         | GroupSection::Random { diameter, .. } => (diameter.smallest(), diameter.largest()),
     }));
-    let (Some(d_min), Some(d_max)) = (diameters.iter().map(|d| d.0).reduce(f64::min), diameters.iter().map(|d| d.1).reduce(f64::max)) else {
+    Some((diameters.iter().map(|d| d.0).reduce(f64::min)?, diameters.iter().map(|d| d.1).reduce(f64::max)?))
+}
+
+fn particle_lines(case: &Case) -> Vec<String> {
+    use spillage_model::closure::{collision_time, restitution};
+    use spillage_model::particles::settings::FluidForces;
+    let Some(p) = &case.particles else { return Vec::new() };
+    let Some((d_min, d_max)) = diameter_range(p) else {
         return vec!["particles    none placed or fed".into()];
     };
     let mut lines = vec![format!("particles    diameters {d_min:.4e} … {d_max:.4e} m")];

@@ -165,3 +165,28 @@ fn check_says_how_the_particles_are_coupled() {
         assert!(text.contains(needle), "{case}: {needle:?} not in\n{text}");
     }
 }
+
+/// Representative particles that would pack past α_max on a wall are warned of before the run:
+/// the fine sand as the thesis represents it (modifier 100, two-way; the run held α_c at its
+/// floor with α_p up to 5.4) gets the warning; one-way, or with a modifier of 1, it does not.
+#[test]
+fn check_warns_of_representative_particles_that_would_pack() {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/wear/coriolis_fine_sand.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
+    let dir = scratch("representative-packing");
+    let coupled = text.replacen("[particles]\n", "[coupling]\nmethod = \"kernel\"\n\n[particles]\n", 1);
+    assert_ne!(coupled, text, "the edit found [particles]");
+    let cases = [
+        ("two_way.toml", coupled.clone(), true),
+        ("one_way.toml", text.clone(), false),
+        ("one_each.toml", coupled.replacen("modifier = 100.0", "modifier = 1.0", 1), false),
+    ];
+    for (name, body, warned) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, body).unwrap();
+        let out = spillage(&["check", path.to_str().unwrap()]);
+        let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "{name}: {all}");
+        assert_eq!(all.contains("particles.modifier = 100: a single layer of the 1e-4 m particles on a wall stands for α_p ≈ 6.05"), warned, "{name}:\n{all}");
+    }
+}
