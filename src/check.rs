@@ -395,7 +395,7 @@ pub fn warnings(case: &Case) -> Vec<String> {
 
 /// The solids fraction past which nothing keeps representative particles apart: α_max of the
 /// thesis' solids pressure (wear-model.md §4.3), which is not modelled.
-const MAX_PACKING: f64 = 0.6;
+pub const MAX_PACKING: f64 = 0.6;
 
 /// Representative particles in the water (`[particles] modifier` m with `[coupling]`): one
 /// hexagonal layer of spheres of diameter d resting on a wall fills π/(3√3) d/h of cells h

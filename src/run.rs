@@ -342,7 +342,7 @@ impl Packing {
                 self.largest_fraction,
                 match case.particle_modifier() {
                     1.0 => String::new(),
-                    m => format!("; particles counting {m} times ([particles] modifier) pack past α_max = 0.6, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)"),
+                    m => format!("; particles counting {m} times ([particles] modifier) pack past α_max = {}, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)", spillage::check::MAX_PACKING),
                 }
             )
         })
