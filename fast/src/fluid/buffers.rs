@@ -38,6 +38,10 @@ pub struct StepBuffers {
     pub boundary_velocity: Vec<Vec3>,
     /// Velocity gradient per cell, g[i][j] = ∂u_j/∂x_i.
     pub velocity_gradient: Vec<[Vec3; 3]>,
+    /// The velocity and its gradient the `limited_linear` limiter reads when it is evaluated
+    /// once per step (`[numerics] limiter_update = "time_step"`): the step's first iterate's.
+    pub limiter_velocity: [Vec<f64>; 3],
+    pub limiter_gradient: Vec<[Vec3; 3]>,
     pub momentum_links: MomentumLinkCoefficients,
     pub momentum: MomentumSystem,
     /// Right-hand side b − V∇P of the momentum predictor, by component.

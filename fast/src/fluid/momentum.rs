@@ -57,6 +57,10 @@ pub struct MomentumInputs<'a> {
     pub velocity_old_old: &'a [Vec<f64>; 3],
     /// ∇u* per cell, g[i][j] = ∂u_j/∂x_i.
     pub velocity_gradient: &'a [[Vec3; 3]],
+    /// What the `limited_linear` limiter reads: the two above, or the step's first iterate's
+    /// ([`spillage_model::fluid::settings::LimiterUpdate`]).
+    pub limiter_velocity: &'a [Vec<f64>; 3],
+    pub limiter_gradient: &'a [[Vec3; 3]],
     pub boundary_velocity: &'a [Vec3],
     /// Latest fluxes φ* per link and per boundary face.
     pub link_flux: &'a [f64],
@@ -88,9 +92,9 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
                 links.weight[l],
                 &links.delta[l],
                 relative_flux,
-                vec_of(velocity, p),
-                vec_of(velocity, q),
-                |owner_upwind| gradient[if owner_upwind { p } else { q }],
+                vec_of(inputs.limiter_velocity, p),
+                vec_of(inputs.limiter_velocity, q),
+                |owner_upwind| inputs.limiter_gradient[if owner_upwind { p } else { q }],
             );
             let diffusivity = viscosity.face(links.weight[l], p, q) * alpha_f;
             let diffusion = diffusivity * links.laplacian[l];

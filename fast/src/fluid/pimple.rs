@@ -17,7 +17,7 @@ use spillage_model::fluid::conditions::Conditions;
 use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
-use spillage_model::fluid::settings::NumericsSection;
+use spillage_model::fluid::settings::{LimiterUpdate, NumericsSection};
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Overlap, PatchKind, Vec3};
 use spillage_model::solver::{SolverError, StepReport};
@@ -316,11 +316,18 @@ impl FastFluid {
         self.pressure_solver.new_step();
         let mut outer_iterations = 0;
         let (mut first_outer_residual, mut last_residual) = (f64::NAN, f64::NAN);
+        let limiter_per_step = self.numerics.limiter_update == LimiterUpdate::TimeStep;
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
             // a. boundary velocities and ∇u*
             momentum::boundary_velocities(&disc, &b.fixed_boundary_velocity, &b.velocity, &mut b.boundary_velocity);
             disc.vector_gradient(&b.velocity, &b.boundary_velocity, &mut b.velocity_gradient);
+            if limiter_per_step && outer_iterations == 1 {
+                for (kept, u) in b.limiter_velocity.iter_mut().zip(&b.velocity) {
+                    kept.clone_from(u);
+                }
+                b.limiter_gradient.clone_from(&b.velocity_gradient);
+            }
             // b. momentum matrix
             let momentum_inputs = MomentumInputs {
                 step,
@@ -334,6 +341,8 @@ impl FastFluid {
                 velocity_old: &b.velocity_old,
                 velocity_old_old: &b.velocity_old_old,
                 velocity_gradient: &b.velocity_gradient,
+                limiter_velocity: if limiter_per_step { &b.limiter_velocity } else { &b.velocity },
+                limiter_gradient: if limiter_per_step { &b.limiter_gradient } else { &b.velocity_gradient },
                 boundary_velocity: &b.boundary_velocity,
                 link_flux: &b.link_flux,
                 boundary_flux: &b.boundary_flux,

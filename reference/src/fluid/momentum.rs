@@ -133,8 +133,16 @@ pub fn boundary_velocities(inputs: &StepInputs, u: &[Vec3]) -> Vec<Vec3> {
 
 /// Assembles the momentum system with the latest fluxes (`link_flux`, `boundary_flux`,
 /// absolute), velocity `u` and its gradient `grad_u`, then applies implicit under-relaxation
-/// a_P ← a_P/α_u, b ← b + (1 − α_u)/α_u · a_P u*.
-pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u: &[Vec3], grad_u: &[[Vec3; 3]]) -> MomentumSystem {
+/// a_P ← a_P/α_u, b ← b + (1 − α_u)/α_u · a_P u*. `limiter` is the velocity and gradient the
+/// `limited_linear` limiter is evaluated from: (u, ∇u) itself, or the step's first iterate's
+/// ([`spillage_model::fluid::settings::LimiterUpdate`]).
+pub fn assemble(
+    inputs: &StepInputs,
+    link_flux: &[f64],
+    boundary_flux: &[f64],
+    (u, grad_u): (&[Vec3], &[[Vec3; 3]]),
+    limiter: (&[Vec3], &[[Vec3; 3]]),
+) -> MomentumSystem {
     let geo = inputs.geo;
     let n = geo.n_cells();
     let numerics = inputs.numerics;
@@ -165,7 +173,7 @@ pub fn assemble(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64], u
         let alpha_f = link.interpolate(inputs.alpha[p], inputs.alpha[nb]);
         // convection with the flux relative to the moving mesh (spec §4.1)
         let f = link_flux[l] - link.mesh_flux;
-        let lambda = convection_weight(numerics.convection, numerics.linear_fraction, link, f, u, grad_u);
+        let lambda = convection_weight(numerics.convection, numerics.linear_fraction, link, f, limiter.0, limiter.1);
         m.add_diagonal(p, alpha_f * f * lambda);
         m.add_off_diagonal(p, nb, alpha_f * f * (1.0 - lambda));
         m.add_diagonal(nb, -alpha_f * f * (1.0 - lambda));

@@ -8,7 +8,7 @@ use spillage_model::fluid::conditions::fluid_volume_rate;
 use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
 use spillage_model::fluid::sampling::FluidSample;
-use spillage_model::fluid::settings::NumericsSection;
+use spillage_model::fluid::settings::{LimiterUpdate, NumericsSection};
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::{Mesh, Vec3};
 use spillage_model::solver::{SolverError, StepReport};
@@ -206,11 +206,18 @@ impl ReferenceFluid {
 
         let mut outer_iterations = 0;
         let (mut first_outer_residual, mut last_residual) = (f64::NAN, f64::NAN);
+        // the limiter's velocity and gradient, when it is evaluated once per step
+        let lag = self.numerics.limiter_update == LimiterUpdate::TimeStep;
+        let mut limiter_field: Option<(Vec<Vec3>, Vec<[Vec3; 3]>)> = None;
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
             let boundary_u = momentum::boundary_velocities(&inputs, &u);
             let grad_u = vector_gradient(&geo, &volumes, &u, &boundary_u);
-            let system = momentum::assemble(&inputs, &link_flux, &boundary_flux, &u, &grad_u);
+            if lag && limiter_field.is_none() {
+                limiter_field = Some((u.clone(), grad_u.clone()));
+            }
+            let limiter = limiter_field.as_ref().map_or((u.as_slice(), grad_u.as_slice()), |(lu, lg)| (lu.as_slice(), lg.as_slice()));
+            let system = momentum::assemble(&inputs, &link_flux, &boundary_flux, (&u, &grad_u), limiter);
 
             // momentum predictor: M u = b − V∇P*
             let grad_p = super::gradient::scalar_gradient(&geo, &volumes, &p, &p_boundary);
