@@ -118,9 +118,7 @@ pub fn convection_weight(
             let gradf = u_n - u_p;
             let g = grad_upwind(flux >= 0.0);
             let gradcf = gradf.dot(&directional(&g, delta));
-            let gradf2 = gradf.norm_squared();
-            let r = if gradcf.abs() >= 1000.0 * gradf2 { 2.0 * 1000.0 * gradcf.signum() * gradf2.signum() - 1.0 } else { 2.0 * gradcf / gradf2 - 1.0 };
-            let limiter = (2.0 * r).clamp(0.0, 1.0);
+            let limiter = spillage_model::fluid::limiter::limited_linear_v(&gradf, gradcf);
             limiter * weight + (1.0 - limiter) * upwind
         }
     }

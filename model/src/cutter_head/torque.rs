@@ -358,7 +358,9 @@ impl TorqueBudget {
     /// Owner weight λ of the convected face value u_f = λ u_P + (1 − λ) u_N, the reference
     /// fluid's schemes.rs (spec §8.10) with the limiter of `limitedLinearV 1` from the step's
     /// final velocity and gradient (the solver's from its last outer iterate: equal at
-    /// outer-loop convergence).
+    /// outer-loop convergence; with `[numerics] limiter_update = "time_step"` the solver's is the
+    /// step's first iterate's, and the budget differs from it by the limiter's change over one
+    /// step).
     #[allow(clippy::too_many_arguments)]
     fn convection_weight(&self, weight: f64, flux: f64, u_p: Vec3, u_n: Vec3, grad_p: &[Vec3; 3], grad_n: &[Vec3; 3], delta: &Vec3) -> f64 {
         let upwind = if flux >= 0.0 { 1.0 } else { 0.0 };
@@ -370,9 +372,7 @@ impl TorqueBudget {
                 let gradf = u_n - u_p;
                 let g = if flux >= 0.0 { grad_p } else { grad_n };
                 let gradcf = gradf.dot(&(g[0] * delta[0] + g[1] * delta[1] + g[2] * delta[2]));
-                let gradf2 = gradf.norm_squared();
-                let r = if gradcf.abs() >= 1000.0 * gradf2 { 2.0 * 1000.0 * gradcf.signum() * gradf2.signum() - 1.0 } else { 2.0 * gradcf / gradf2 - 1.0 };
-                let limiter = (2.0 * r).clamp(0.0, 1.0);
+                let limiter = crate::fluid::limiter::limited_linear_v(&gradf, gradcf);
                 limiter * weight + (1.0 - limiter) * upwind
             }
         }

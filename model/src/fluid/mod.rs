@@ -4,6 +4,7 @@
 pub mod conditions;
 pub mod frozen_rotor;
 pub mod initial;
+pub mod limiter;
 pub mod sampling;
 pub mod settings;
 pub mod state;
