@@ -118,7 +118,7 @@ pub fn convection_weight(
             let gradf = u_n - u_p;
             let g = grad_upwind(flux >= 0.0);
             let gradcf = gradf.dot(&directional(&g, delta));
-            let limiter = spillage_model::fluid::limiter::limited_linear_v(&gradf, gradcf);
+            let limiter = spillage_model::fluid::limiter::limited_linear_v(&gradf, gradcf, u_p.norm_squared().max(u_n.norm_squared()));
             limiter * weight + (1.0 - limiter) * upwind
         }
     }

@@ -372,7 +372,7 @@ impl TorqueBudget {
                 let gradf = u_n - u_p;
                 let g = if flux >= 0.0 { grad_p } else { grad_n };
                 let gradcf = gradf.dot(&(g[0] * delta[0] + g[1] * delta[1] + g[2] * delta[2]));
-                let limiter = crate::fluid::limiter::limited_linear_v(&gradf, gradcf);
+                let limiter = crate::fluid::limiter::limited_linear_v(&gradf, gradcf, u_p.norm_squared().max(u_n.norm_squared()));
                 limiter * weight + (1.0 - limiter) * upwind
             }
         }

@@ -27,5 +27,9 @@ pub fn convection_weight(scheme: ConvectionScheme, linear_fraction: f64, link: &
 fn limited_linear_v(link: &Link, flux: f64, u: &[Vec3], grad: &[[Vec3; 3]]) -> f64 {
     let gradf = u[link.neighbour] - u[link.owner];
     let upwind_cell = if flux >= 0.0 { link.owner } else { link.neighbour };
-    limiter::limited_linear_v(&gradf, gradf.dot(&directional(&grad[upwind_cell], &link.delta)))
+    limiter::limited_linear_v(
+        &gradf,
+        gradf.dot(&directional(&grad[upwind_cell], &link.delta)),
+        u[link.owner].norm_squared().max(u[link.neighbour].norm_squared()),
+    )
 }
