@@ -71,7 +71,8 @@ fn settling_grain_drifts_at_the_centrifugal_terminal_velocity() {
 /// The Coriolis arm's water alone (cases/verification/wear/coriolis_garnet.toml without its
 /// particles, walls and wear; 4 416 cells, Re 1.4e5 at 3000 rpm, `limited_linear`): with the
 /// limiter evaluated from the latest outer iterate (OpenFOAM's way) the outer loop stagnates, so
-/// every step stops at the cap of 10 iterations (pressure residual 4e-4 … 4e-3, measured), and
+/// every step stops at the cap of 10 iterations (pressure residual: median 9e-4, up to 3.7e-3 over
+/// 100 steps, measured), and
 /// the two fluid solvers, which differ by round-off, grew apart about twofold per outer
 /// iteration (6.4e-6 of the fields after three steps). Evaluated once per step
 /// (`[numerics] limiter_update = "time_step"`, the case's setting) every step converges (4–7

@@ -207,13 +207,13 @@ impl ReferenceFluid {
         let mut outer_iterations = 0;
         let (mut first_outer_residual, mut last_residual) = (f64::NAN, f64::NAN);
         // the limiter's velocity and gradient, when it is evaluated once per step
-        let lag = self.numerics.limiter_update == LimiterUpdate::TimeStep;
+        let limiter_per_step = self.numerics.limiter_update == LimiterUpdate::TimeStep;
         let mut limiter_field: Option<(Vec<Vec3>, Vec<[Vec3; 3]>)> = None;
         for _outer in 0..self.numerics.max_outer_iterations {
             outer_iterations += 1;
             let boundary_u = momentum::boundary_velocities(&inputs, &u);
             let grad_u = vector_gradient(&geo, &volumes, &u, &boundary_u);
-            if lag && limiter_field.is_none() {
+            if limiter_per_step && limiter_field.is_none() {
                 limiter_field = Some((u.clone(), grad_u.clone()));
             }
             let limiter = limiter_field.as_ref().map_or((u.as_slice(), grad_u.as_slice()), |(lu, lg)| (lu.as_slice(), lg.as_slice()));
