@@ -115,10 +115,7 @@ pub fn convection_weight(
         ConvectionScheme::Upwind => upwind,
         ConvectionScheme::Blended => linear_fraction * weight + (1.0 - linear_fraction) * upwind,
         ConvectionScheme::LimitedLinear => {
-            let gradf = u_n - u_p;
-            let g = grad_upwind(flux >= 0.0);
-            let gradcf = gradf.dot(&directional(&g, delta));
-            let limiter = spillage_model::fluid::limiter::limited_linear_v(&gradf, gradcf, u_p.norm_squared().max(u_n.norm_squared()));
+            let limiter = spillage_model::fluid::limiter::limited_linear_v(&u_p, &u_n, &directional(&grad_upwind(flux >= 0.0), delta));
             limiter * weight + (1.0 - limiter) * upwind
         }
     }

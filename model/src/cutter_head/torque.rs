@@ -369,10 +369,8 @@ impl TorqueBudget {
             ConvectionScheme::Upwind => upwind,
             ConvectionScheme::Blended => self.linear_fraction * weight + (1.0 - self.linear_fraction) * upwind,
             ConvectionScheme::LimitedLinear => {
-                let gradf = u_n - u_p;
                 let g = if flux >= 0.0 { grad_p } else { grad_n };
-                let gradcf = gradf.dot(&(g[0] * delta[0] + g[1] * delta[1] + g[2] * delta[2]));
-                let limiter = crate::fluid::limiter::limited_linear_v(&gradf, gradcf, u_p.norm_squared().max(u_n.norm_squared()));
+                let limiter = crate::fluid::limiter::limited_linear_v(&u_p, &u_n, &(g[0] * delta[0] + g[1] * delta[1] + g[2] * delta[2]));
                 limiter * weight + (1.0 - limiter) * upwind
             }
         }

@@ -25,11 +25,6 @@ pub fn convection_weight(scheme: ConvectionScheme, linear_fraction: f64, link: &
 /// The face's limiter ([`spillage_model::fluid::limiter::limited_linear_v`]) from the upwind
 /// cell's gradient.
 fn limited_linear_v(link: &Link, flux: f64, u: &[Vec3], grad: &[[Vec3; 3]]) -> f64 {
-    let gradf = u[link.neighbour] - u[link.owner];
     let upwind_cell = if flux >= 0.0 { link.owner } else { link.neighbour };
-    limiter::limited_linear_v(
-        &gradf,
-        gradf.dot(&directional(&grad[upwind_cell], &link.delta)),
-        u[link.owner].norm_squared().max(u[link.neighbour].norm_squared()),
-    )
+    limiter::limited_linear_v(&u[link.owner], &u[link.neighbour], &directional(&grad[upwind_cell], &link.delta))
 }
