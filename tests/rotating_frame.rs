@@ -71,14 +71,13 @@ fn settling_grain_drifts_at_the_centrifugal_terminal_velocity() {
 /// The Coriolis arm's water alone (cases/verification/wear/coriolis_garnet.toml without its
 /// particles, walls and wear; 4 416 cells, Re 1.4e5 at 3000 rpm, `limited_linear`): with the
 /// limiter evaluated from the latest outer iterate (OpenFOAM's way) the outer loop stagnates, so
-/// every step stops at the cap of 10 iterations (pressure residual: median 9e-4, up to 3.7e-3 over
-/// 100 steps, measured), and
-/// the two fluid solvers, which differ by round-off, grew apart about twofold per outer
-/// iteration (6.4e-6 of the fields after three steps). Evaluated once per step
-/// (`[numerics] limiter_update = "time_step"`, the case's setting) every step converges (4–7
-/// iterations), and with faces whose difference is round-off taken linear
-/// (model/src/fluid/limiter.rs; without that 1.2e-6 after 30 steps) the solvers agree to 1.6e-11
-/// over 30 steps (bound: the 1e-8 of every equivalence check, src/verify/equivalence.rs).
+/// every step stops at the cap of 10 iterations (pressure residual: median 9e-4, up to 3.7e-3
+/// over 100 steps, measured), and the two fluid solvers, which differ by round-off, grow apart
+/// about twofold per outer iteration (6.4e-6 of the fields after three steps). Evaluated once
+/// per step (`[numerics] limiter_update = "time_step"`, the case's setting) every step converges
+/// (4–7 iterations), and with faces whose difference is round-off taken linear
+/// (model/src/fluid/limiter.rs; without that 1.2e-6 after 30 steps) the solvers agree to
+/// 1.6e-11 over 30 steps (bound: the 1e-8 of every equivalence check, src/verify/equivalence.rs).
 #[test]
 fn the_coriolis_arm_converges_with_the_limiter_evaluated_once_per_step() {
     use spillage::verify::equivalence::{compare_case, TOLERANCE};
