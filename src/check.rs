@@ -393,23 +393,25 @@ pub fn warnings(case: &Case) -> Vec<String> {
     warnings
 }
 
-/// The solids fraction past which nothing keeps representative particles apart: α_max of the
-/// thesis' solids pressure (wear-model.md §4.3), which is not modelled.
+/// The solids fraction past which nothing but their own contacts keeps representative particles
+/// apart without `[particles.solids_pressure]`: α_max of the thesis' solids pressure
+/// (wear-model.md §4.3).
 pub const MAX_PACKING: f64 = 0.6;
 
 /// Representative particles in the water (`[particles] modifier` m with `[coupling]`): one
 /// hexagonal layer of spheres of diameter d resting on a wall fills π/(3√3) d/h of cells h
 /// tall, and stands for m times that. Past α_max only the simulated particles' own contacts,
 /// m times too few, hold them apart, and α_c reaches its floor (the thesis' fine sand: 0.60 ×
-/// 100 × 0.1 mm / 1 mm = 6.0, where its run held α_c at the floor with α_p up to 5.4).
+/// 100 × 0.1 mm / 1 mm = 6.0, where its run held α_c at the floor with α_p up to 5.4), unless
+/// the case has the solids pressure.
 fn representative_packing(case: &Case) -> Option<String> {
-    let p = case.particles.as_ref().filter(|p| p.modifier > 1.0 && case.coupling.is_some())?;
+    let p = case.particles.as_ref().filter(|p| p.modifier > 1.0 && case.coupling.is_some() && p.solids_pressure.is_none())?;
     let (_, d) = diameter_range(p)?;
     let h = derive(case).min_cell_size?;
     let layer = p.modifier * std::f64::consts::PI / (3.0 * 3f64.sqrt()) * d / h;
     (layer > MAX_PACKING).then(|| {
         format!(
-            "particles.modifier = {}: a single layer of the {d:e} m particles on a wall stands for α_p ≈ {layer:.2} in the {h:.3e} m cells (0.60 × modifier × d/h), past α_max = {MAX_PACKING}, which real particles cannot reach: only the simulated particles' own contacts keep them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled){}; a smaller modifier or larger cells keep it below",
+            "particles.modifier = {}: a single layer of the {d:e} m particles on a wall stands for α_p ≈ {layer:.2} in the {h:.3e} m cells (0.60 × modifier × d/h), past α_max = {MAX_PACKING}, which real particles cannot reach: only the simulated particles' own contacts keep them apart{}; the thesis' solids pressure ([particles.solids_pressure], wear-model.md §4.3), a smaller modifier or larger cells keep it below",
             p.modifier,
             match case.coupling.as_ref().map(|c| c.min_fluid_fraction) {
                 Some(floor) if layer > 1.0 - floor => format!(", and past 1 − min_fluid_fraction = {} α_c is held at its floor", 1.0 - floor),

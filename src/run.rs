@@ -340,9 +340,10 @@ impl Packing {
                 self.most_cells,
                 self.steps,
                 self.largest_fraction,
-                match case.particle_modifier() {
-                    1.0 => String::new(),
-                    m => format!("; particles counting {m} times ([particles] modifier) pack past α_max = {}, since nothing but their own contacts keeps them apart (the thesis' solids pressure, wear-model.md §4.3, is not modelled)", spillage::check::MAX_PACKING),
+                match (case.particle_modifier(), case.particles.as_ref().is_some_and(|p| p.solids_pressure.is_some())) {
+                    (1.0, _) => String::new(),
+                    (m, false) => format!("; particles counting {m} times ([particles] modifier) pack past α_max = {}, since nothing but their own contacts keeps them apart: the thesis' solids pressure ([particles.solids_pressure], wear-model.md §4.3) does", spillage::check::MAX_PACKING),
+                    (m, true) => format!("; particles counting {m} times ([particles] modifier) packed past it despite [particles.solids_pressure] (its α_p is each cell's own count; the kernel's is spread)"),
                 }
             )
         })

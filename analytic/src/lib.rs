@@ -16,6 +16,7 @@
 //! - [`oblique_impact`]: Walton's hard-sphere oblique impact model.
 //! - [`spillage_model`]: the Euler-turbine analytical spillage model.
 //! - [`erosion`]: erosion per impact (Arabnejad, Finnie, Oka, DNV, E/CRC).
+//! - [`granular`]: the granular temperature and solids pressure of the wear model's KTGF.
 //! - [`sliding_interface`]: conservative 1-D / periodic face-overlap mapping.
 //! - [`channel_flows`]: Poiseuille/Couette channel, Taylor–Green vortex, hydrostatics.
 //! - [`rotating_frame`]: the Coriolis tester's rotation (A39), a free particle seen from a
@@ -32,6 +33,7 @@ pub mod couette;
 pub mod drag_laws;
 pub mod erosion;
 pub mod error;
+pub mod granular;
 pub mod hertz;
 pub mod hindered_settling;
 pub mod oblique_impact;

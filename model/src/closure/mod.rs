@@ -11,3 +11,4 @@ pub mod drag_and_buoyancy;
 pub mod elementary;
 pub mod restitution;
 pub mod rotating_frame;
+pub mod solids_pressure;

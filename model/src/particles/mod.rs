@@ -12,6 +12,7 @@ pub mod non_contact;
 pub mod placement;
 pub mod random;
 pub mod settings;
+pub mod solids_pressure;
 pub mod state;
 pub mod substeps;
 

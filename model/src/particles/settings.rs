@@ -53,6 +53,9 @@ pub struct ParticlesSection {
     /// is that of one real particle. Default 1.
     #[serde(default = "one")]
     pub modifier: f64,
+    /// The KTGF solids pressure between the particles (`[particles.solids_pressure]`,
+    /// wear-model.md §4; [`crate::particles::solids_pressure`]); none by default.
+    pub solids_pressure: Option<crate::particles::solids_pressure::SolidsPressureSection>,
 }
 
 /// `[particles] fluid_forces`: the particle equation's fluid forces.
@@ -171,6 +174,9 @@ impl ParticlesSection {
         }
         if let Some(a) = &self.ambient {
             a.validate()?;
+        }
+        if let Some(s) = &self.solids_pressure {
+            s.validate()?;
         }
         if let Some(d) = &self.domain {
             d.validate("particles.domain")?;

@@ -7,6 +7,8 @@
 //!    (spec §8.7 [R]); the steps of a frozen-rotor start-up (t < 0) keep the pose
 //!    ([`crate::fluid::frozen_rotor`]);
 //! 2. feed: particles owed by the feeds are placed ([`bookkeeping::feed`]);
+//!    with `[particles.solids_pressure]` the particles' velocities then take the step's KTGF
+//!    solids-pressure correction ([`SolidsPressure::correct`]);
 //! 3. sample: the fluid each particle sees, held for the whole step (§5.10);
 //! 4. DEM sub-steps: particles and walls to tⁿ⁺¹ ([`ParticlePhase::advance`]);
 //! 5. exits: particles that left the domain or the mesh are removed and logged (with their
@@ -47,6 +49,7 @@ use crate::mesh::{Mesh, Vec3};
 use crate::particles::batch::{self, LaterBatch};
 use crate::particles::bookkeeping;
 use crate::particles::settings::ParticlesSection;
+use crate::particles::solids_pressure::SolidsPressure;
 use crate::solver::{CouplingOutput, Solver, SolverError, StepReport};
 use crate::state::State;
 
@@ -97,6 +100,8 @@ pub struct Coupled<F: FluidPhase = Absent, P: ParticlePhase = Absent> {
     start_up: Option<StartUp>,
     /// Head batches placed once the water has turned ([`batch`]).
     later_batches: Vec<LaterBatch>,
+    /// The KTGF solids pressure between the particles (`[particles.solids_pressure]`).
+    solids_pressure: Option<SolidsPressure>,
     label: &'static str,
 }
 
@@ -167,6 +172,11 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             (None, None) => unreachable!("checked above"),
         };
         let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(|section| ParticleMeshMap::of_case(section, case));
+        let solids_pressure = match particle_section.as_ref().and_then(|s| s.solids_pressure.clone()) {
+            Some(_) if fluid.is_none() => return Err(unsupported("[particles.solids_pressure] needs a [fluid] section: its cells are the fluid mesh's")),
+            Some(section) => Some(SolidsPressure::new(section)),
+            None => None,
+        };
         let g = Vec3::from(case.physics.gravity);
         let down = (g.norm() > 0.0).then(|| g.normalize());
         let head = match (&case.cutter_head, &fluid) {
@@ -207,6 +217,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             failed_in_fluid: false,
             start_up,
             later_batches: batch::later_batches(case).map_err(|e| field_error("", e))?,
+            solids_pressure,
             label,
         };
         run.map_initial_fraction();
@@ -336,6 +347,15 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
                 }
                 _ => true,
             });
+            if let (Some(solids), Some(fluid)) = (self.solids_pressure.as_mut(), &self.fluid) {
+                let done = solids.correct(fluid.mesh(), &mut particles.particles, section.modifier, dt).map_err(|e| diverged(e.to_string()))?;
+                report.values.extend([
+                    ("solids_fraction_max", done.largest_fraction),
+                    ("solids_fraction_max_after", done.largest_fraction_after),
+                    ("solids_pressure_correction_max", done.largest_correction),
+                    ("solids_pressure_iterations", done.iterations as f64),
+                ]);
+            }
             self.samples.clear();
             match (&self.fluid, &self.state.fluid, &self.mapping) {
                 (Some(fluid), Some(fluid_state), Some(map)) => {
