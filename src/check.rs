@@ -529,6 +529,18 @@ fn particle_lines(case: &Case) -> Vec<String> {
                 if case.wear.is_some() { represents("on the walls") } else { String::new() }
             ),
         });
+        if let Some(sp) = &p.solids_pressure {
+            use spillage_model::particles::solids_pressure::Treatment;
+            lines.push(format!(
+                "solids       KTGF solids pressure between the particles (wear-model.md §4), {}: α_max {}, e {}, from each fluid cell's α_p and Θ",
+                match sp.treatment {
+                    Treatment::Implicit => "implicit in α_p",
+                    Treatment::Explicit => "explicit (the thesis)",
+                },
+                sp.packing_limit,
+                sp.restitution
+            ));
+        }
     }
     if let Some((rho_f, nu)) = fluid {
         for m in &p.materials {

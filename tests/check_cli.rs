@@ -168,7 +168,8 @@ fn check_says_how_the_particles_are_coupled() {
 
 /// Representative particles that would pack past α_max on a wall are warned of before the run:
 /// the fine sand as the thesis represents it (modifier 100, two-way; the run held α_c at its
-/// floor with α_p up to 5.4) gets the warning; one-way, or with a modifier of 1, it does not.
+/// floor with α_p up to 5.4) gets the warning; one-way, with a modifier of 1, or with the
+/// solids pressure that keeps them apart, it does not.
 #[test]
 fn check_warns_of_representative_particles_that_would_pack() {
     let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/wear/coriolis_fine_sand.toml");
@@ -180,6 +181,7 @@ fn check_warns_of_representative_particles_that_would_pack() {
         ("two_way.toml", coupled.clone(), true),
         ("one_way.toml", text.clone(), false),
         ("one_each.toml", coupled.replacen("modifier = 100.0", "modifier = 1.0", 1), false),
+        ("with_the_solids_pressure.toml", format!("{coupled}\n[particles.solids_pressure]\n"), false),
     ];
     for (name, body, warned) in cases {
         let path = dir.join(name);
@@ -188,5 +190,10 @@ fn check_warns_of_representative_particles_that_would_pack() {
         let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
         assert!(out.status.success(), "{name}: {all}");
         assert_eq!(all.contains("particles.modifier = 100: a single layer of the 1e-4 m particles on a wall stands for α_p ≈ 6.05"), warned, "{name}:\n{all}");
+        assert_eq!(
+            all.contains("solids       KTGF solids pressure between the particles (wear-model.md §4), implicit in α_p: α_max 0.6, e 0.99"),
+            name.starts_with("with_the"),
+            "{name}:\n{all}"
+        );
     }
 }
