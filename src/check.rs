@@ -530,15 +530,19 @@ fn particle_lines(case: &Case) -> Vec<String> {
             ),
         });
         if let Some(sp) = &p.solids_pressure {
-            use spillage_model::particles::solids_pressure::Treatment;
+            use spillage_model::particles::solids_pressure::{KtgfForce, Treatment};
             lines.push(format!(
-                "solids       KTGF solids pressure between the particles (wear-model.md §4), {}: α_max {}, e {}, from each fluid cell's α_p and Θ",
+                "solids       KTGF solids pressure between the particles (wear-model.md §4), {}: α_max {}, e {}, from each fluid cell's α_p and Θ; acceleration {}",
                 match sp.treatment {
                     Treatment::Implicit => "implicit in α_p",
                     Treatment::Explicit => "explicit (the thesis)",
                 },
                 sp.packing_limit,
-                sp.restitution
+                sp.restitution,
+                match sp.force {
+                    KtgfForce::PerParticleVolume => "−∇p_p/(α_p ρ_p) (§4.4)",
+                    KtgfForce::ThesisLiteral => "−∇p_p/ρ_p (force = \"thesis_literal\": the printed Eq. 2.12 without 1/α_p)",
+                }
             ));
         }
     }
