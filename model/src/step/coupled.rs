@@ -172,7 +172,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
             (None, None) => unreachable!("checked above"),
         };
         let mapping = case.coupling.as_ref().filter(|_| fluid.is_some() && particles.is_some()).map(|section| ParticleMeshMap::of_case(section, case));
-        let solids_pressure = match particle_section.as_ref().and_then(|s| s.solids_pressure.clone()) {
+        let solids_pressure = match particle_section.as_ref().and_then(|s| s.solids_pressure) {
             Some(_) if fluid.is_none() => return Err(unsupported("[particles.solids_pressure] needs a [fluid] section: its cells are the fluid mesh's")),
             Some(section) => Some(SolidsPressure::new(section)),
             None => None,

@@ -88,7 +88,7 @@ const MAX_ITERATIONS: usize = 5000;
 /// The per-cell fields and solver memory, reused from step to step.
 #[derive(Clone, Debug, Default)]
 pub struct SolidsPressure {
-    pub settings: Option<SolidsPressureSection>,
+    pub settings: SolidsPressureSection,
     /// α_p per cell (the step's start).
     pub fraction: Vec<f64>,
     /// Θ per cell [m²/s²].
@@ -119,7 +119,7 @@ pub struct SolidsPressure {
 
 impl SolidsPressure {
     pub fn new(settings: SolidsPressureSection) -> Self {
-        Self { settings: Some(settings), ..Self::default() }
+        Self { settings, ..Self::default() }
     }
 
     /// Bins `particles` into their cells (α_p with `modifier` real particles per simulated
@@ -164,7 +164,7 @@ impl SolidsPressure {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(SolidsPressureError::BadStep(dt));
         }
-        let settings = self.settings.clone().unwrap_or_default();
+        let settings = self.settings;
         let (e, limit) = (settings.restitution, settings.packing_limit);
         let n = mesh.n_cells();
         let n_faces = mesh.n_internal_faces;

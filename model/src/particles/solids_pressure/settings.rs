@@ -7,7 +7,7 @@ use crate::case::error::{in_range, FieldError};
 use crate::closure::solids_pressure::{PACKING_LIMIT, RESTITUTION};
 
 /// `[particles.solids_pressure]`
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SolidsPressureSection {
     /// α_max of Eq. 2.26 (default 0.6).

@@ -186,7 +186,9 @@ fn particles_already_moving_apart_get_only_what_they_lack() {
 #[test]
 fn the_thesis_literal_force_lacks_the_fraction() {
     // explicit: face by face the per-particle-volume correction times α_p,f (exactly, up to
-    // the one division); implicit: a weaker correction of the same sign on the wave
+    // the one division); implicit: a weaker correction of the same sign on the wave, at most
+    // α_p ≤ 0.4 of it (0.45: at Δt 1e-5 the two solves' α_p* differ by far less than that
+    // margin)
     let mesh = periodic_row(32);
     let dt = 1e-5;
     let field = |treatment, force| {
