@@ -123,3 +123,24 @@ fn bad_eccentric_mouths_get_a_located_error() {
     ];
     assert_refused(bad);
 }
+
+/// The blade's lean (`cutter_head.blade_sweep`): the two names are read, anything else is
+/// refused naming the line, the key, the value and the allowed names.
+#[test]
+fn the_blade_sweep_is_read_and_a_bad_one_refused() {
+    const TWIST: &str = "blade_twist = 40.0\n";
+    let text = shipped();
+    assert!(text.contains(TWIST));
+    let with = |v: &str| text.replace(TWIST, &format!("{TWIST}blade_sweep = {v}\n"));
+    let sweep = |t: &str| parse(t).unwrap().cutter_head.unwrap().blade_sweep;
+    use spillage_model::cutter_head::BladeSweep;
+    assert_eq!(sweep(&text), BladeSweep::Backward, "the default");
+    assert_eq!(sweep(&with("\"forward\"")), BladeSweep::Forward);
+    assert_eq!(sweep(&with("\"backward\"")), BladeSweep::Backward);
+    let line = text.lines().position(|l| l.starts_with("blade_twist")).unwrap() + 2;
+    let at = format!("cases/bad.toml:{line}:");
+    assert_refused(vec![
+        ("unknown", with("\"sideways\""), vec![&at, "blade_sweep", "sideways", "backward", "forward"]),
+        ("a number", with("1.0"), vec![&at, "blade_sweep"]),
+    ]);
+}

@@ -304,9 +304,11 @@ pub(crate) mod tests {
 
     #[test]
     fn baffle_blades_keep_the_passages_apart_and_take_no_volume() {
-        for h in [0.05, 0.04] {
+        use crate::cutter_head::BladeSweep;
+        for (h, sweep) in [(0.05, BladeSweep::Backward), (0.04, BladeSweep::Backward), (0.04, BladeSweep::Forward)] {
             let mut section = section(h);
             section.mesh.blades = BladeCells::Baffles;
+            section.blade_sweep = sweep;
             let spec = blocked_rotor_stator(&section).unwrap();
             let mesh = build(&section).unwrap();
             assert_cells_closed(&mesh);

@@ -9,14 +9,16 @@
 //! A blade's cross-section at height z is a logarithmic spiral, which makes the same angle
 //! φ(z) with every circle it crosses (the angle of §2.3 at the outer edge, where the analytical
 //! model reads it): θ_k(r, z) = θ_k + τ(z) + ln(R(z)/r) / tan φ(z), with τ(z) the helical
-//! twist, linear from 0 at the ring to `blade_twist` at the hub. The inner part of a blade
-//! leads its outer edge in the direction of rotation (a backward-swept impeller). Its
-//! thickness t is measured normal to the blade, so along a circle it spans t / sin φ.
+//! twist, linear from 0 at the ring to `blade_twist` at the hub. With `blade_sweep =
+//! "backward"` (the default) the inner part of a blade leads its outer edge in the direction of
+//! rotation (a backward-swept impeller); with `"forward"` it trails (the outer edge leads, as a
+//! cutter's teeth do). Its thickness t is measured normal to the blade, so along a circle it
+//! spans t / sin φ.
 
 use std::f64::consts::TAU;
 
 use super::mouth::EccentricMouth;
-use super::settings::CutterHeadSection;
+use super::settings::{BladeSweep, CutterHeadSection};
 
 /// The solid parts, named in errors and outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,6 +41,7 @@ pub struct CutterHead {
     pub blade_depth: f64,
     /// τ at the hub [rad].
     pub blade_twist: f64,
+    pub blade_sweep: BladeSweep,
     /// The inner radius of the ring (axial suction) or of the mouth in the back plate.
     pub opening_radius: f64,
     pub ring_thickness: f64,
@@ -67,6 +70,7 @@ impl CutterHead {
             blade_thickness: section.blade_thickness,
             blade_depth: section.blade_depth,
             blade_twist: section.blade_twist.to_radians(),
+            blade_sweep: section.blade_sweep,
             opening_radius: section.opening_radius(),
             ring_thickness: section.ring_thickness,
             hub_thickness: section.hub_thickness,
@@ -133,7 +137,11 @@ impl CutterHead {
     /// not wrapped).
     pub fn blade_azimuth(&self, k: usize, r: f64, z: f64) -> f64 {
         let (radius, phi) = self.at(-z);
-        TAU * k as f64 / self.blades as f64 + self.blade_twist * (-z / self.height()) + (radius / r).ln() / phi.tan()
+        let lead_of_inner_part = match self.blade_sweep {
+            BladeSweep::Backward => 1.0,
+            BladeSweep::Forward => -1.0,
+        };
+        TAU * k as f64 / self.blades as f64 + self.blade_twist * (-z / self.height()) + lead_of_inner_part * (radius / r).ln() / phi.tan()
     }
 
     /// Half the angular width of a blade at radius r and height z (thickness t normal to the
@@ -288,6 +296,30 @@ pub(crate) mod tests {
             let dtheta = head.blade_azimuth(k, r + dr, z) - head.blade_azimuth(k, r - dr, z);
             let angle = (2.0 * dr / (r * dtheta.abs())).atan();
             assert!((angle - phi).abs() < 1e-7, "z = {z}: {angle} vs {phi}");
+        }
+    }
+
+    #[test]
+    fn a_forward_swept_blade_leads_with_its_outer_edge_at_the_same_angle_phi() {
+        let backward = head();
+        let mut forward = head();
+        forward.blade_sweep = BladeSweep::Forward;
+        for &(z, k) in &[(-0.1, 0), (-0.3, 3)] {
+            let (outer, inner) = (backward.radius_at(z), backward.radius_at(z) - backward.blade_depth);
+            // the outer edges coincide; the inner part lies ahead (backward sweep) or behind
+            // (forward sweep) it by the same angle ln(R/r)/tan φ
+            assert_eq!(forward.blade_azimuth(k, outer, z), backward.blade_azimuth(k, outer, z));
+            let lead = |h: &CutterHead| h.blade_azimuth(k, inner, z) - h.blade_azimuth(k, outer, z);
+            let expected = (outer / inner).ln() / backward.blade_angle_at(z).tan();
+            assert!((lead(&backward) - expected).abs() < 1e-14 && (lead(&forward) + expected).abs() < 1e-14, "z = {z}");
+            let r = outer - 0.5 * forward.blade_depth;
+            let dr = 1e-5;
+            let dtheta = forward.blade_azimuth(k, r + dr, z) - forward.blade_azimuth(k, r - dr, z);
+            assert!(((2.0 * dr / (r * dtheta.abs())).atan() - forward.blade_angle_at(z)).abs() < 1e-7);
+            // the solid follows the surface
+            let a = forward.blade_azimuth(k, r, z);
+            let cell = |t: f64| forward.touches_solid([r - 0.005, r + 0.005], [t - 0.01, t + 0.01], [z - 0.005, z + 0.005]);
+            assert_eq!(cell(a), Some(Part::Blade(k)));
         }
     }
 

@@ -21,4 +21,4 @@ pub mod torque;
 pub mod walls;
 
 pub use geometry::{CutterHead, Part};
-pub use settings::{BladeCells, CutterHeadSection, Suction};
+pub use settings::{BladeCells, BladeSweep, CutterHeadSection, Suction};

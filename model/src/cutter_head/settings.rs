@@ -26,6 +26,10 @@ pub struct CutterHeadSection {
     /// turns with the rotation direction of a positive ω).
     #[serde(default)]
     pub blade_twist: f64,
+    /// Which way a blade's cross-section leans from its outer edge inward (default
+    /// `"backward"`, a pump impeller's: the outer edge trails).
+    #[serde(default)]
+    pub blade_sweep: BladeSweep,
     /// Inner radius of the ring [m].
     pub ring_inner_radius: f64,
     /// Axial thickness of the ring (and of the back plate) [m].
@@ -66,6 +70,24 @@ pub struct CutterHeadSection {
     pub haul_velocity: [f64; 3],
     pub tank: TankSection,
     pub mesh: HeadMeshSection,
+}
+
+/// `blade_sweep`: the lean of a blade's cross-section, a logarithmic spiral at the angle φ(z) to
+/// every circle it crosses (spec §2.3: φ is read at the outer edge, where the analytical model
+/// takes it; the thesis gives the lean only in its drawings, §2.11).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BladeSweep {
+    /// The outer edge trails the inner part in the direction of rotation, as a centrifugal
+    /// pump's backward-swept blades: water the blades drag slower than themselves slides
+    /// outward along them.
+    #[default]
+    Backward,
+    /// The outer edge leads, with the teeth, as on a cutter head whose blades turn the cut
+    /// material inward (spec §1.5, Den Burger: "a positive C_slip … gives inflow with
+    /// outward-pointing blades"): water the blades drag slower than themselves slides inward
+    /// along them.
+    Forward,
 }
 
 /// `suction = { type = "axial" }`, `{ type = "mouth", radius = 0.1 }` or

@@ -294,7 +294,9 @@ mod tests {
 
     #[test]
     fn every_part_is_closed_oriented_outward_and_a_valid_wall_mesh() {
-        let walls = head_walls(&section(), SIZE);
+        let mut forward = section();
+        forward.blade_sweep = crate::cutter_head::BladeSweep::Forward;
+        let walls = [head_walls(&section(), SIZE), head_walls(&forward, SIZE)].concat();
         for (name, mesh) in &walls {
             WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap_or_else(|e| panic!("{name}: {e}"));
             if name == "shaft" {
