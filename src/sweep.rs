@@ -18,6 +18,7 @@ macro_rules! say {
 
 // the analytic spillage model on the case's contour (shared with `spillage verify`)
 use spillage::verify::head_model as analytic;
+mod calibration;
 mod plots;
 mod points;
 mod runner;
@@ -259,8 +260,22 @@ fn write_results(out: &Path, args: &SweepArgs, case_name: &str, keys: &[SweptKey
 
     let [swept] = keys else { return Ok(()) };
     let Some(xs) = swept_numbers(planned) else { return Ok(()) };
-    let model = planned.iter().find_map(|p| HeadModel::of_case(&p.case)).and_then(Result::ok);
-    let written = plots::draw_sweep_plots(&out.join("plots"), &swept.key, &xs, rows, model.as_ref())?;
+    let mut models: Vec<HeadModel> = planned.iter().find_map(|p| HeadModel::of_case(&p.case)).and_then(Result::ok).into_iter().collect();
+    if let (Some(thesis), Some(axis)) = (models.first().cloned(), plots::OperatingAxis::of_key(&swept.key)) {
+        match calibration::calibrate_on_rows(axis, &xs, rows, &thesis) {
+            Some(Ok(fit)) => {
+                let section = fit.markdown_section(&swept.key, &thesis, axis)?;
+                let path = out.join("sweep.md");
+                let table = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+                std::fs::write(&path, table + &section).with_context(|| format!("cannot write {}", path.display()))?;
+                say!("{}", fit.summary());
+                models.push(fit.model);
+            }
+            Some(Err(error)) => eprintln!("warning: {error:#}; the sweep has no calibrated model"),
+            None => {}
+        }
+    }
+    let written = plots::draw_sweep_plots(&out.join("plots"), &swept.key, &xs, rows, &models)?;
     if !written.is_empty() {
         say!("plots: {} in {}", written.len(), out.join("plots").display());
     }

@@ -15,6 +15,7 @@
 //! - [`restitution`]: Legendre wet restitution and the lubrication-only limit.
 //! - [`oblique_impact`]: Walton's hard-sphere oblique impact model.
 //! - [`spillage_model`]: the Euler-turbine analytical spillage model.
+//! - [`spillage_calibration`]: its α and β fitted to simulated out-flowing fluxes (Tab. 8.1).
 //! - [`erosion`]: erosion per impact (Arabnejad, Finnie, Oka, DNV, E/CRC).
 //! - [`granular`]: the granular temperature and solids pressure of the wear model's KTGF.
 //! - [`sliding_interface`]: conservative 1-D / periodic face-overlap mapping.
@@ -44,6 +45,7 @@ pub mod rotating_frame;
 pub mod settling;
 pub mod sliding_interface;
 pub mod special;
+pub mod spillage_calibration;
 pub mod spillage_model;
 pub mod turbulent_channel;
 

@@ -15,8 +15,10 @@ use super::table::PointRow;
 const ANALYTIC_SAMPLES: usize = 201;
 
 /// Draws the figures into `dir`; `xs[i]` is row i's swept value. Only completed points are
-/// drawn (a failed run's means describe a different, shorter run). Returns the files written.
-pub fn draw_sweep_plots(dir: &Path, key: &str, xs: &[f64], rows: &[PointRow], model: Option<&HeadModel>) -> anyhow::Result<Vec<PathBuf>> {
+/// drawn (a failed run's means describe a different, shorter run). `models`: the head's
+/// Euler-turbine model with the thesis' α and β, then any calibrated on these runs (none for
+/// a case without a head). Returns the files written.
+pub fn draw_sweep_plots(dir: &Path, key: &str, xs: &[f64], rows: &[PointRow], models: &[HeadModel]) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create the plot folder {}", dir.display()))?;
     let mut written = Vec::new();
     for column in series_columns(rows) {
@@ -31,8 +33,8 @@ pub fn draw_sweep_plots(dir: &Path, key: &str, xs: &[f64], rows: &[PointRow], mo
         write_png(&plot, &path)?;
         written.push(path);
     }
-    if let (Some(model), Some(axis)) = (model, OperatingAxis::of_key(key)) {
-        written.extend(draw_model_comparison(dir, axis, xs, rows, model)?);
+    if let (false, Some(axis)) = (models.is_empty(), OperatingAxis::of_key(key)) {
+        written.extend(draw_model_comparison(dir, axis, xs, rows, models)?);
     }
     Ok(written)
 }
@@ -51,7 +53,7 @@ fn series_columns(rows: &[PointRow]) -> Vec<String> {
 }
 
 /// (swept value, value of `column`) of the completed rows that have it, sorted by the value.
-fn simulated(xs: &[f64], rows: &[PointRow], column: &str) -> Vec<(f64, f64)> {
+pub(super) fn simulated(xs: &[f64], rows: &[PointRow], column: &str) -> Vec<(f64, f64)> {
     let mut points: Vec<(f64, f64)> = xs.iter().zip(rows).filter(|(_, row)| row.completed()).filter_map(|(&x, row)| Some((x, row.number(column)?))).collect();
     points.sort_by(|a, b| a.0.total_cmp(&b.0));
     points
@@ -87,25 +89,38 @@ impl OperatingAxis {
         }
     }
 
-    /// The model at swept value `x`, the other parameter at the case's value.
-    fn answer(self, model: &HeadModel, x: f64) -> anyhow::Result<ModelAnswer> {
+    /// (rpm, Q_m) at swept value `x`, the other parameter at the case's value.
+    pub(super) fn operating_point(self, model: &HeadModel, x: f64) -> (f64, f64) {
         match self {
-            OperatingAxis::RotorSpeed => model.answer(x, model.suction_discharge),
-            OperatingAxis::SuctionDischarge => model.answer(model.rpm, x),
+            OperatingAxis::RotorSpeed => (x, model.suction_discharge),
+            OperatingAxis::SuctionDischarge => (model.rpm, x),
         }
+    }
+
+    /// The model at swept value `x`.
+    fn answer(self, model: &HeadModel, x: f64) -> anyhow::Result<ModelAnswer> {
+        let (rpm, suction_discharge) = self.operating_point(model, x);
+        model.answer(rpm, suction_discharge)
     }
 }
 
-/// `outflow_vs_<axis>.png` (simulated `hull_outflow_mean` and the model's Q₁) and
-/// `production_vs_<axis>.png` (simulated `production`, `spillage` and the model's P, S), each
-/// only when the runs report the simulated columns.
-fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[PointRow], model: &HeadModel) -> anyhow::Result<Vec<PathBuf>> {
-    let curve = model_curve(axis, xs, model)?;
+/// `outflow_vs_<axis>.png` (simulated `hull_outflow_mean` and `contour_outflow_mean`, and each
+/// model's Q₁) and `production_vs_<axis>.png` (simulated `production`, `spillage` and each
+/// model's P, S), each only when the runs report the simulated columns.
+fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[PointRow], models: &[HeadModel]) -> anyhow::Result<Vec<PathBuf>> {
+    let curves = models.iter().map(|model| Ok((model.coefficients_label(), model_curve(axis, xs, model)?))).collect::<anyhow::Result<Vec<_>>>()?;
     let mut written = Vec::new();
 
     let outflow = simulated(xs, rows, "hull_outflow_mean");
+    let contour = simulated(xs, rows, "contour_outflow_mean");
     if !outflow.is_empty() {
-        let analytic: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.outflow_water)).collect();
+        let analytic: Vec<(String, Vec<(f64, f64)>)> =
+            curves.iter().map(|(label, curve)| (format!("model Q₁ (water, {label})"), curve.iter().map(|(x, a)| (*x, a.outflow_water)).collect())).collect();
+        let mut series = vec![Series { label: "simulation (hull_outflow_mean)", points: &outflow }];
+        if !contour.is_empty() {
+            series.push(Series { label: "simulation (contour_outflow_mean)", points: &contour });
+        }
+        series.extend(analytic.iter().map(|(label, points)| Series { label, points }));
         let path = dir.join(format!("outflow_vs_{}.png", axis.file_suffix()));
         let plot = Plot {
             title: "Out-flowing flux: simulation and Euler-turbine model",
@@ -113,10 +128,7 @@ fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[Po
             y_label: "out-flowing flux [m³/s]",
             log_x: false,
             log_y: false,
-            series: vec![
-                Series { label: "simulation (hull_outflow_mean)", points: &outflow },
-                Series { label: "model Q₁ (water, α 0.375, β 0.774)", points: &analytic },
-            ],
+            series,
         };
         write_png(&plot, &path)?;
         written.push(path);
@@ -124,8 +136,15 @@ fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[Po
 
     let (production, spillage) = (simulated(xs, rows, "production"), simulated(xs, rows, "spillage"));
     if !production.is_empty() || !spillage.is_empty() {
-        let analytic_production: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.production_mixture)).collect();
-        let analytic_spillage: Vec<(f64, f64)> = curve.iter().map(|(x, a)| (*x, a.spillage_mixture)).collect();
+        let analytic: Vec<(String, Vec<(f64, f64)>)> = curves
+            .iter()
+            .flat_map(|(label, curve)| {
+                [
+                    (format!("model P ({label}; ρ₁ 1254 kg/m³)"), curve.iter().map(|(x, a)| (*x, a.production_mixture)).collect()),
+                    (format!("model S ({label}; ρ₁ 1254 kg/m³)"), curve.iter().map(|(x, a)| (*x, a.spillage_mixture)).collect()),
+                ]
+            })
+            .collect();
         let mut series = Vec::new();
         if !production.is_empty() {
             series.push(Series { label: "simulation: production", points: &production });
@@ -133,8 +152,7 @@ fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[Po
         if !spillage.is_empty() {
             series.push(Series { label: "simulation: spillage", points: &spillage });
         }
-        series.push(Series { label: "model P (ρ₁ 1254, ρ₂ 998.2 kg/m³)", points: &analytic_production });
-        series.push(Series { label: "model S (ρ₁ 1254, ρ₂ 998.2 kg/m³)", points: &analytic_spillage });
+        series.extend(analytic.iter().map(|(label, points)| Series { label, points }));
         let path = dir.join(format!("production_vs_{}.png", axis.file_suffix()));
         let plot = Plot {
             title: "Production and spillage: simulation and Euler-turbine model",
@@ -202,7 +220,7 @@ mod tests {
     fn a_head_swept_in_rpm_gets_the_model_comparison() {
         let dir = scratch("head");
         let rows: Vec<PointRow> = [30.0, 60.0, 90.0].iter().map(|&rpm| row(&[("hull_outflow", 0.001 * rpm), ("production", 0.6), ("spillage", 0.4)])).collect();
-        let written = draw_sweep_plots(&dir, "rotor.rpm", &[30.0, 60.0, 90.0], &rows, Some(&head_model())).unwrap();
+        let written = draw_sweep_plots(&dir, "rotor.rpm", &[30.0, 60.0, 90.0], &rows, &[head_model()]).unwrap();
         let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
         assert_eq!(names, ["hull_outflow_mean.png", "production_mean.png", "spillage_mean.png", "outflow_vs_rpm.png", "production_vs_rpm.png"]);
         assert!(written.iter().all(|p| p.is_file()));
@@ -213,12 +231,12 @@ mod tests {
     fn runs_without_the_head_columns_get_no_comparison() {
         let dir = scratch("no_head_columns");
         let rows = vec![row(&[("kinetic_energy", 1.0)]), row(&[("kinetic_energy", 2.0)])];
-        let written = draw_sweep_plots(&dir, "cutter_head.suction_discharge", &[0.1, 0.2], &rows, Some(&head_model())).unwrap();
+        let written = draw_sweep_plots(&dir, "cutter_head.suction_discharge", &[0.1, 0.2], &rows, &[head_model()]).unwrap();
         assert_eq!(written, [dir.join("kinetic_energy_mean.png")]);
         let mut failed = rows.clone();
         failed[0].status = "failed: diverged".into();
         failed[1].status = "failed: diverged".into();
-        assert!(draw_sweep_plots(&dir, "rotor.rpm", &[1.0, 2.0], &failed, None).unwrap().is_empty(), "failed points are not drawn");
+        assert!(draw_sweep_plots(&dir, "rotor.rpm", &[1.0, 2.0], &failed, &[]).unwrap().is_empty(), "failed points are not drawn");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -3,7 +3,10 @@
 //! model on the same geometry.
 
 use anyhow::Context;
-use spillage_analytic::spillage_model::{solve, CutterProfile, ProfilePoint, SpillageInputs, MIXTURE_DENSITY_TOP};
+use spillage_analytic::spillage_calibration::{calibrate, mean_absolute_error, Calibration, FluxSample};
+use spillage_analytic::spillage_model::{
+    solve, CutterProfile, ProfilePoint, SpillageInputs, CALIBRATED_FLOW_FACTOR, CALIBRATED_PRESSURE_COEFFICIENT, MIXTURE_DENSITY_TOP, WATER_DENSITY,
+};
 use spillage_model::case::Case;
 
 /// The model's inputs that come from a head case: its contour, rotor speed and suction.
@@ -14,13 +17,16 @@ pub struct HeadModel {
     pub rpm: f64,
     /// Q_m of the case [m³/s].
     pub suction_discharge: f64,
+    /// α and β: the thesis' (Tab. 8.1) unless calibrated on simulated fluxes.
+    pub flow_factor: f64,
+    pub pressure_coefficient: f64,
 }
 
 /// The model's answers at one operating point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelAnswer {
-    /// Out-flowing flux Q₁ in water (ρ₁ = ρ₂ = 998.2 kg/m³, the calibrated case of Tab. 8.1)
-    /// [m³/s]: the simulation's fluid is water.
+    /// Out-flowing flux Q₁ in water (ρ₁ = ρ₂ = 998.2 kg/m³, as the thesis calibrated it,
+    /// Tab. 8.1) [m³/s]: the simulation's fluid is water.
     pub outflow_water: f64,
     /// Production fraction P = Q_m/(Q_m + Q₁) with a cutting-side mixture ρ₁ = 1254 kg/m³ and
     /// water ρ₂ = 998.2 kg/m³ (Tab. 8.5), as the model compares with the measured production.
@@ -38,12 +44,39 @@ impl HeadModel {
             profile,
             rpm: rotor.rpm.unwrap_or_else(|| rotor.angular_velocity() * 60.0 / std::f64::consts::TAU).abs(),
             suction_discharge: head.suction_discharge,
+            flow_factor: CALIBRATED_FLOW_FACTOR,
+            pressure_coefficient: CALIBRATED_PRESSURE_COEFFICIENT,
         }))
+    }
+
+    /// The same head with α and β fitted to simulated out-flowing fluxes by the thesis'
+    /// procedure (`spillage_analytic::spillage_calibration`, Tab. 8.1), and the fit.
+    pub fn calibrated_on(&self, samples: &[FluxSample]) -> anyhow::Result<(HeadModel, Calibration)> {
+        let fit =
+            calibrate(&self.profile, WATER_DENSITY, samples).context("calibrating the Euler-turbine model's α and β on the simulated out-flowing flux")?;
+        Ok((self.with_coefficients(fit.flow_factor, fit.pressure_coefficient), fit))
+    }
+
+    /// The same head with α and β given.
+    pub fn with_coefficients(&self, flow_factor: f64, pressure_coefficient: f64) -> HeadModel {
+        HeadModel { flow_factor, pressure_coefficient, ..self.clone() }
+    }
+
+    /// This model's mean |Q₁ − simulated| over the samples (water) [m³/s].
+    pub fn mean_absolute_error(&self, samples: &[FluxSample]) -> anyhow::Result<f64> {
+        mean_absolute_error(&self.profile, WATER_DENSITY, self.flow_factor, self.pressure_coefficient, samples)
+            .context("the Euler-turbine model on the simulated operating points")
+    }
+
+    /// "α 0.375, β 0.774", for legends and tables.
+    pub fn coefficients_label(&self) -> String {
+        format!("α {}, β {}", trimmed(self.flow_factor), trimmed(self.pressure_coefficient))
     }
 
     /// The model at `rpm` and `suction_discharge` on this head's contour.
     pub fn answer(&self, rpm: f64, suction_discharge: f64) -> anyhow::Result<ModelAnswer> {
-        let water = SpillageInputs::calibrated_water(self.profile.clone(), rpm, suction_discharge);
+        let mut water = SpillageInputs::calibrated_water(self.profile.clone(), rpm, suction_discharge);
+        (water.flow_factor, water.pressure_coefficient) = (self.flow_factor, self.pressure_coefficient);
         let mut mixture = water.clone();
         mixture.density_top = MIXTURE_DENSITY_TOP;
         let context = || format!("the analytic spillage model at {rpm} rpm, Q_m = {suction_discharge} m³/s");
@@ -60,6 +93,12 @@ impl HeadModel {
     pub fn answer_at_case(&self) -> anyhow::Result<ModelAnswer> {
         self.answer(self.rpm, self.suction_discharge)
     }
+}
+
+/// Four decimals without trailing zeros (the calibration's grid is 1e-4 in α).
+fn trimmed(value: f64) -> String {
+    let text = format!("{value:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// `cutter_head.contour` rows `[s (m), R (m), φ (deg)]` as the model's profile (φ in radians).
