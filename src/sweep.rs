@@ -264,11 +264,17 @@ fn write_results(out: &Path, args: &SweepArgs, case_name: &str, keys: &[SweptKey
     if let (Some(thesis), Some(axis)) = (models.first().cloned(), plots::OperatingAxis::of_key(&swept.key)) {
         match calibration::calibrate_on_rows(axis, &xs, rows, &thesis) {
             Some(Ok(fit)) => {
-                let section = fit.markdown_section(&swept.key, &thesis, axis)?;
-                let path = out.join("sweep.md");
-                let table = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
-                std::fs::write(&path, table + &section).with_context(|| format!("cannot write {}", path.display()))?;
                 say!("{}", fit.summary());
+                // the fit's table solves the model once more per point; if that fails, the
+                // plots are still drawn
+                match fit.markdown_section(&swept.key) {
+                    Ok(section) => {
+                        let path = out.join("sweep.md");
+                        let table = std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+                        std::fs::write(&path, table + &section).with_context(|| format!("cannot write {}", path.display()))?;
+                    }
+                    Err(error) => eprintln!("warning: {error:#}; sweep.md has no section on the fitted model"),
+                }
                 models.push(fit.model);
             }
             Some(Err(error)) => eprintln!("warning: {error:#}; the sweep has no calibrated model"),

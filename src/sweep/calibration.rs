@@ -18,12 +18,12 @@ pub struct ModelCalibration {
     /// The head's model with the fitted α and β.
     pub model: HeadModel,
     pub fit: Calibration,
-    /// The thesis' pair's mean |error| on the same points [m³/s].
-    pub thesis_error: f64,
-    thesis_label: String,
+    /// The model with the thesis' pair, and its mean |error| on the same points [m³/s].
+    thesis: HeadModel,
+    thesis_error: f64,
     /// The series column fitted.
     pub column: &'static str,
-    /// (swept value, sample) per completed point.
+    /// (swept value, sample) per fitted point.
     samples: Vec<(f64, FluxSample)>,
 }
 
@@ -40,7 +40,7 @@ pub fn calibrate_on_rows(axis: OperatingAxis, xs: &[f64], rows: &[PointRow], the
     let fluxes: Vec<FluxSample> = samples.iter().map(|(_, s)| *s).collect();
     Some(thesis.calibrated_on(&fluxes).and_then(|(model, fit)| {
         let thesis_error = thesis.mean_absolute_error(&fluxes)?;
-        Ok(ModelCalibration { model, fit, thesis_error, thesis_label: thesis.coefficients_label(), column, samples })
+        Ok(ModelCalibration { model, fit, thesis: thesis.clone(), thesis_error, column, samples })
     }))
 }
 
@@ -48,41 +48,55 @@ impl ModelCalibration {
     /// One line for the terminal.
     pub fn summary(&self) -> String {
         format!(
-            "Euler-turbine model calibrated on {} of {} points (Tab. 8.1): {}, mean |error| {} m³/s (the thesis' {}: {} m³/s)",
+            "Euler-turbine model fitted to {} of {} points (Tab. 8.1): {}, mean |error| {} m³/s (the thesis' {}: {} m³/s){}",
             self.column,
             self.samples.len(),
             self.model.coefficients_label(),
             markdown_number(self.fit.mean_absolute_error),
-            self.thesis_label,
-            markdown_number(self.thesis_error)
+            self.thesis.coefficients_label(),
+            markdown_number(self.thesis_error),
+            self.caveat().map_or_else(String::new, |c| format!("; {c}"))
         )
+    }
+
+    /// Why the pair may not mean much: it sits on the edge of the allowed range (the best lies
+    /// beyond it), or no pair fits better than another (no outflow to fit).
+    fn caveat(&self) -> Option<String> {
+        let (alpha, beta) = (self.fit.flow_factor, self.fit.pressure_coefficient);
+        if self.samples.iter().all(|(_, s)| s.outflow == 0.0) {
+            Some("no point has outflow, so every pair giving none fits as well".into())
+        } else if beta < 0.02 || beta > 0.98 || !(0.002..=0.998).contains(&alpha) {
+            Some("the pair sits on the edge of the allowed range (α in (0, 1), β in [0, 1]): the least error lies beyond it".into())
+        } else {
+            None
+        }
     }
 
     /// The section appended to `sweep.md`: the fit, and per point the simulated flux beside
     /// both models'.
-    pub fn markdown_section(&self, key: &str, thesis: &HeadModel, axis: OperatingAxis) -> anyhow::Result<String> {
-        let mut text = String::from("\n## The Euler-turbine model calibrated on these runs\n\n");
+    pub fn markdown_section(&self, key: &str) -> anyhow::Result<String> {
+        let mut text = String::from("\n## The Euler-turbine model fitted to these runs\n\n");
         text.push_str(&format!(
             "α and β fitted as the thesis fitted them to its head (spillage-and-flow-verification.md §2.10, Tab. 8.1: α over (0, 1), β over [0, 1], \
-             the least mean absolute error; water in both segments) to `{}` of the {} completed points: **{}**, mean |error| {} m³/s. \
+             the least mean absolute error; water in both segments) to `{}` of the {} points that have it: **{}**, mean |error| {} m³/s. \
              The thesis' {} gives {} m³/s on the same points. α and β trade off along a narrow valley of the error, so nearby pairs fit \
-             almost as well; the fit describes this head's flux, not its physics.\n\n",
+             almost as well; the fit describes this head's flux, not its physics.{}\n\n",
             self.column,
             self.samples.len(),
             self.model.coefficients_label(),
             markdown_number(self.fit.mean_absolute_error),
-            self.thesis_label,
-            markdown_number(self.thesis_error)
+            self.thesis.coefficients_label(),
+            markdown_number(self.thesis_error),
+            self.caveat().map_or_else(String::new, |c| format!(" Note: {c}."))
         ));
         text.push_str(&format!(
-            "| {key} | simulated [m³/s] | model, {} [m³/s] | model, {} [m³/s] |\n|---|---|---|---|\n",
-            self.thesis_label,
+            "| {key} | simulated [m³/s] | thesis' model, {} [m³/s] | fitted model, {} [m³/s] |\n|---|---|---|---|\n",
+            self.thesis.coefficients_label(),
             self.model.coefficients_label()
         ));
         for (x, sample) in &self.samples {
-            let (rpm, suction_discharge) = axis.operating_point(thesis, *x);
-            let by_thesis = thesis.answer(rpm, suction_discharge)?.outflow_water;
-            let by_fit = self.model.answer(rpm, suction_discharge)?.outflow_water;
+            let by_thesis = self.thesis.answer(sample.rpm, sample.suction_discharge)?.outflow_water;
+            let by_fit = self.model.answer(sample.rpm, sample.suction_discharge)?.outflow_water;
             text.push_str(&format!(
                 "| {} | {} | {} | {} |\n",
                 markdown_number(*x),
@@ -136,14 +150,28 @@ mod tests {
         // α on the fit's 1e-4 grid, β searched to 1e-7
         assert!((calibration.model.flow_factor - 0.5).abs() < 1e-9 && (calibration.model.pressure_coefficient - 0.9).abs() < 1e-6, "{:?}", calibration.fit);
         assert!(calibration.thesis_error > 1e-3 && calibration.fit.mean_absolute_error < 1e-7);
-        let section = calibration.markdown_section("rotor.rpm", &thesis, OperatingAxis::RotorSpeed).unwrap();
+        let section = calibration.markdown_section("rotor.rpm").unwrap();
         assert!(
             section.contains("**α 0.5, β 0.9**")
-                && section.contains("| rotor.rpm | simulated [m³/s] | model, α 0.375, β 0.774 [m³/s] | model, α 0.5, β 0.9 [m³/s] |"),
+                && section.contains("| rotor.rpm | simulated [m³/s] | thesis' model, α 0.375, β 0.774 [m³/s] | fitted model, α 0.5, β 0.9 [m³/s] |"),
             "{section}"
         );
         assert_eq!(section.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| rotor")).count(), 4);
-        assert!(calibration.summary().contains("contour_outflow_mean of 4 points"));
+        assert!(calibration.summary().contains("contour_outflow_mean of 4 points") && !section.contains("Note:"));
+    }
+
+    #[test]
+    fn a_pair_on_the_range_edge_or_a_flat_error_is_flagged() {
+        let thesis = thesis_model();
+        let edge = thesis.with_coefficients(0.3, 0.0);
+        let rows: Vec<PointRow> =
+            [60.0, 90.0].iter().map(|&rpm| row(&[("contour_outflow", edge.answer(rpm, 0.12).unwrap().outflow_water)], "completed")).collect();
+        let calibration = calibrate_on_rows(OperatingAxis::RotorSpeed, &[60.0, 90.0], &rows, &thesis).unwrap().unwrap();
+        assert!(calibration.summary().contains("edge of the allowed range"), "{}", calibration.summary());
+        assert!(calibration.markdown_section("rotor.rpm").unwrap().contains("Note: the pair sits on the edge"));
+        let still: Vec<PointRow> = [20.0, 30.0].iter().map(|_| row(&[("contour_outflow", 0.0)], "completed")).collect();
+        let calibration = calibrate_on_rows(OperatingAxis::RotorSpeed, &[20.0, 30.0], &still, &thesis).unwrap().unwrap();
+        assert!(calibration.summary().contains("no point has outflow"), "{}", calibration.summary());
     }
 
     #[test]

@@ -108,15 +108,23 @@ impl OperatingAxis {
 /// model's Q₁) and `production_vs_<axis>.png` (simulated `production`, `spillage` and each
 /// model's P, S), each only when the runs report the simulated columns.
 fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[PointRow], models: &[HeadModel]) -> anyhow::Result<Vec<PathBuf>> {
-    let curves = models.iter().map(|model| Ok((model.coefficients_label(), model_curve(axis, xs, model)?))).collect::<anyhow::Result<Vec<_>>>()?;
+    // the first model has the thesis' pair, the others were fitted to these runs
+    let curves = models
+        .iter()
+        .enumerate()
+        .map(|(i, model)| Ok((format!("{}{}", if i == 0 { "thesis' " } else { "fitted " }, model.coefficients_label()), model_curve(axis, xs, model)?)))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let mut written = Vec::new();
 
     let outflow = simulated(xs, rows, "hull_outflow_mean");
     let contour = simulated(xs, rows, "contour_outflow_mean");
-    if !outflow.is_empty() {
+    if !outflow.is_empty() || !contour.is_empty() {
         let analytic: Vec<(String, Vec<(f64, f64)>)> =
             curves.iter().map(|(label, curve)| (format!("model Q₁ (water, {label})"), curve.iter().map(|(x, a)| (*x, a.outflow_water)).collect())).collect();
-        let mut series = vec![Series { label: "simulation (hull_outflow_mean)", points: &outflow }];
+        let mut series = Vec::new();
+        if !outflow.is_empty() {
+            series.push(Series { label: "simulation (hull_outflow_mean)", points: &outflow });
+        }
         if !contour.is_empty() {
             series.push(Series { label: "simulation (contour_outflow_mean)", points: &contour });
         }
@@ -224,6 +232,17 @@ mod tests {
         let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
         assert_eq!(names, ["hull_outflow_mean.png", "production_mean.png", "spillage_mean.png", "outflow_vs_rpm.png", "production_vs_rpm.png"]);
         assert!(written.iter().all(|p| p.is_file()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_fitted_model_and_the_contour_flux_join_the_comparison() {
+        let dir = scratch("fitted");
+        let rows: Vec<PointRow> = [30.0, 60.0].iter().map(|&rpm| row(&[("contour_outflow", 0.001 * rpm)])).collect();
+        let models = [head_model(), head_model().with_coefficients(0.5, 0.9)];
+        let written = draw_sweep_plots(&dir, "rotor.rpm", &[30.0, 60.0], &rows, &models).unwrap();
+        let names: Vec<String> = written.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        assert_eq!(names, ["contour_outflow_mean.png", "outflow_vs_rpm.png"], "the contour's flux alone makes the comparison");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

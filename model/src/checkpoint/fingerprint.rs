@@ -36,6 +36,14 @@ fn phase(what: &str, present: bool) -> Part {
     part(what, if present { format!("a {what}") } else { format!("no {what}") }, if present { "1" } else { "0" })
 }
 
+/// The mesh part's hashed values: the mesh section and the cutter head. The head's blade lean
+/// is left out at its default (`"backward"`), so that checkpoints written before it existed
+/// still match the heads they were written by.
+pub(super) fn mesh_values(case: &Case) -> String {
+    let head = format!("{:?}", case.cutter_head);
+    format!("{:?}{}", case.mesh, head.replace("blade_sweep: Backward, ", ""))
+}
+
 impl Fingerprint {
     pub fn of_case(case: &Case) -> Fingerprint {
         let mut parts =
@@ -52,7 +60,7 @@ impl Fingerprint {
             (None, Some(head)) => format!("a cutter-head mesh ({} blades)", head.blades),
             (None, None) => "no mesh".into(),
         };
-        parts.push(part("mesh", mesh_summary, &format!("{:?}{:?}", case.mesh, case.cutter_head)));
+        parts.push(part("mesh", mesh_summary, &mesh_values(case)));
         if let Some(p) = &case.particles {
             let names: Vec<&str> = p.materials.iter().map(|m| m.name.as_str()).collect();
             parts.push(part("particle materials", format!("materials {names:?}"), &format!("{:?}", p.materials)));

@@ -186,3 +186,18 @@ fn a_checkpoint_of_another_particle_modifier_is_refused() {
     one.particles.as_mut().unwrap().modifier = 1.0;
     assert!(Fingerprint::of_case(&one).compare(&Fingerprint::of_case(&case)).is_ok());
 }
+
+/// The blade lean reshapes the head's mesh: a restart of a backward head's checkpoint with a
+/// forward head is refused; a backward head hashes as it did before the key existed (its
+/// values without `blade_sweep`), so older checkpoints of the shipped head still match.
+#[test]
+fn a_checkpoint_of_another_blade_lean_is_refused_and_the_default_hashes_as_before() {
+    let head = shipped("cutter_head.toml", "demo");
+    let mut forward = head.clone();
+    forward.cutter_head.as_mut().unwrap().blade_sweep = crate::cutter_head::BladeSweep::Forward;
+    let err = Fingerprint::of_case(&forward).compare(&Fingerprint::of_case(&head)).unwrap_err();
+    assert!(err.contains("the mesh"), "{err}");
+    let values = super::fingerprint::mesh_values(&head);
+    assert!(!values.contains("blade_sweep") && values.contains("blade_twist: 40.0, ring_inner_radius"), "{values}");
+    assert!(super::fingerprint::mesh_values(&forward).contains("blade_sweep: Forward"));
+}

@@ -317,7 +317,7 @@ pub(crate) mod tests {
             // only the plates are blocked: the same slots as a head without blades
             let mut bladeless = section.clone();
             bladeless.blades = 0;
-            assert_eq!(spec.blocked, blocked_rotor_stator(&bladeless).unwrap().blocked, "h = {h}");
+            assert_eq!(spec.blocked, blocked_rotor_stator(&bladeless).unwrap().blocked, "h = {h}, {sweep:?}");
             // each baffle is two faces of the head patch, back to back
             let head = mesh.patch("head").unwrap();
             let n_baffle_sides: u32 = spec.baffles.iter().map(|b| b.count_ones()).sum();
@@ -326,17 +326,17 @@ pub(crate) mod tests {
             let n = centres.len();
             centres.sort_unstable();
             centres.dedup();
-            assert_eq!(n - centres.len(), n_baffle_sides as usize / 2, "h = {h}: baffles as pairs of coincident head faces");
+            assert_eq!(n - centres.len(), n_baffle_sides as usize / 2, "h = {h}, {sweep:?}: baffles as pairs of coincident head faces");
             // the blades part the annulus: no connected group of cells reaches two passages, and
             // every passage has cells; without blades the annulus is one group
             let groups = passages_of_connected_groups(&section, &mesh);
-            assert!(groups.iter().all(|g| g.len() == 1), "h = {h}: a group spans passages {groups:?}");
+            assert!(groups.iter().all(|g| g.len() == 1), "h = {h}, {sweep:?}: a group spans passages {groups:?}");
             let mut seen: Vec<usize> = groups.concat();
             seen.sort_unstable();
             seen.dedup();
-            assert_eq!(seen, (0..section.blades).collect::<Vec<_>>(), "h = {h}");
+            assert_eq!(seen, (0..section.blades).collect::<Vec<_>>(), "h = {h}, {sweep:?}");
             let open = passages_of_connected_groups(&bladeless, &build(&bladeless).unwrap());
-            assert_eq!(open.len(), 1, "h = {h}: {open:?}");
+            assert_eq!(open.len(), 1, "h = {h}, {sweep:?}: {open:?}");
         }
     }
 

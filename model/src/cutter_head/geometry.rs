@@ -8,11 +8,11 @@
 //!
 //! A blade's cross-section at height z is a logarithmic spiral, which makes the same angle
 //! φ(z) with every circle it crosses (the angle of §2.3 at the outer edge, where the analytical
-//! model reads it): θ_k(r, z) = θ_k + τ(z) + ln(R(z)/r) / tan φ(z), with τ(z) the helical
+//! model reads it): θ_k(r, z) = θ_k + τ(z) ± ln(R(z)/r) / tan φ(z), with τ(z) the helical
 //! twist, linear from 0 at the ring to `blade_twist` at the hub. With `blade_sweep =
-//! "backward"` (the default) the inner part of a blade leads its outer edge in the direction of
-//! rotation (a backward-swept impeller); with `"forward"` it trails (the outer edge leads, as a
-//! cutter's teeth do). Its thickness t is measured normal to the blade, so along a circle it
+//! "backward"` (the default, + above) the inner part of a blade leads its outer edge in the direction of
+//! rotation (a backward-swept impeller); with `"forward"` (−) it trails (the outer edge leads, as
+//! a cutter's teeth do). Its thickness t is measured normal to the blade, so along a circle it
 //! spans t / sin φ.
 
 use std::f64::consts::TAU;
@@ -134,14 +134,14 @@ impl CutterHead {
     }
 
     /// Azimuth of blade `k`'s centre surface at radius r and height z (body frame, radians,
-    /// not wrapped).
+    /// not wrapped), leaning as `blade_sweep` says.
     pub fn blade_azimuth(&self, k: usize, r: f64, z: f64) -> f64 {
         let (radius, phi) = self.at(-z);
-        let lead_of_inner_part = match self.blade_sweep {
+        let inner_part_lead_sign = match self.blade_sweep {
             BladeSweep::Backward => 1.0,
             BladeSweep::Forward => -1.0,
         };
-        TAU * k as f64 / self.blades as f64 + self.blade_twist * (-z / self.height()) + lead_of_inner_part * (radius / r).ln() / phi.tan()
+        TAU * k as f64 / self.blades as f64 + self.blade_twist * (-z / self.height()) + inner_part_lead_sign * (radius / r).ln() / phi.tan()
     }
 
     /// Half the angular width of a blade at radius r and height z (thickness t normal to the
@@ -307,13 +307,15 @@ pub(crate) mod tests {
         for &(z, k) in &[(-0.1, 0), (-0.3, 3)] {
             let (outer, inner) = (backward.radius_at(z), backward.radius_at(z) - backward.blade_depth);
             // the outer edges coincide; the inner part lies ahead (backward sweep) or behind
-            // (forward sweep) it by the same angle ln(R/r)/tan φ
+            // (forward sweep) it by the same angle ln(R/r)/tan φ, to a few ulp of the ~4 rad
+            // azimuths subtracted
             assert_eq!(forward.blade_azimuth(k, outer, z), backward.blade_azimuth(k, outer, z));
             let lead = |h: &CutterHead| h.blade_azimuth(k, inner, z) - h.blade_azimuth(k, outer, z);
             let expected = (outer / inner).ln() / backward.blade_angle_at(z).tan();
             assert!((lead(&backward) - expected).abs() < 1e-14 && (lead(&forward) + expected).abs() < 1e-14, "z = {z}");
             let r = outer - 0.5 * forward.blade_depth;
             let dr = 1e-5;
+            // the angle to the circle by a central difference, as above (truncation (dr/r)² ~ 1e-8)
             let dtheta = forward.blade_azimuth(k, r + dr, z) - forward.blade_azimuth(k, r - dr, z);
             assert!(((2.0 * dr / (r * dtheta.abs())).atan() - forward.blade_angle_at(z)).abs() < 1e-7);
             // the solid follows the surface

@@ -296,10 +296,13 @@ mod tests {
     fn every_part_is_closed_oriented_outward_and_a_valid_wall_mesh() {
         let mut forward = section();
         forward.blade_sweep = crate::cutter_head::BladeSweep::Forward;
-        let walls = [head_walls(&section(), SIZE), head_walls(&forward, SIZE)].concat();
+        let mut walls: Vec<(String, TriangleMesh)> = Vec::new();
+        for (sweep, head) in [("backward", section()), ("forward", forward)] {
+            walls.extend(head_walls(&head, SIZE).into_iter().map(|(name, mesh)| (format!("{name} ({sweep})"), mesh)));
+        }
         for (name, mesh) in &walls {
             WallMesh::new(&mesh.vertices, &mesh.triangles).unwrap_or_else(|e| panic!("{name}: {e}"));
-            if name == "shaft" {
+            if name.starts_with("shaft ") {
                 continue;
             }
             let mut directed = HashMap::new();
