@@ -277,7 +277,7 @@ fn write_results(out: &Path, args: &SweepArgs, case_name: &str, keys: &[SweptKey
                 }
                 models.push(fit.model);
             }
-            Some(Err(error)) => eprintln!("warning: {error:#}; the sweep has no calibrated model"),
+            Some(Err(error)) => eprintln!("warning: {error:#}; the sweep has no fitted model"),
             None => {}
         }
     }
