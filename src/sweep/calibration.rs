@@ -47,16 +47,18 @@ pub fn calibrate_on_rows(axis: OperatingAxis, xs: &[f64], rows: &[PointRow], the
 impl ModelCalibration {
     /// One line for the terminal.
     pub fn summary(&self) -> String {
+        let [fitted, fitted_error, thesis, thesis_error] = self.labels();
         format!(
-            "Euler-turbine model fitted to {} of {} points (Tab. 8.1): {}, mean |error| {} m³/s (the thesis' {}: {} m³/s){}",
+            "Euler-turbine model fitted to {} of {} points (Tab. 8.1): {fitted}, mean |error| {fitted_error} m³/s (the thesis' {thesis}: {thesis_error} m³/s){}",
             self.column,
             self.samples.len(),
-            self.model.coefficients_label(),
-            markdown_number(self.fit.mean_absolute_error),
-            self.thesis.coefficients_label(),
-            markdown_number(self.thesis_error),
             self.caveat().map_or_else(String::new, |c| format!("; {c}"))
         )
+    }
+
+    /// The fitted pair, its error, the thesis' pair and its error, as printed.
+    fn labels(&self) -> [String; 4] {
+        [self.model.coefficients_label(), markdown_number(self.fit.mean_absolute_error), self.thesis.coefficients_label(), markdown_number(self.thesis_error)]
     }
 
     /// Why the pair may not mean much: it sits on the edge of the allowed range (the best lies
@@ -75,25 +77,18 @@ impl ModelCalibration {
     /// The section appended to `sweep.md`: the fit, and per point the simulated flux beside
     /// both models'.
     pub fn markdown_section(&self, key: &str) -> anyhow::Result<String> {
+        let [fitted, fitted_error, thesis, thesis_error] = self.labels();
         let mut text = String::from("\n## The Euler-turbine model fitted to these runs\n\n");
         text.push_str(&format!(
             "α and β fitted as the thesis fitted them to its head (spillage-and-flow-verification.md §2.10, Tab. 8.1: α over (0, 1), β over [0, 1], \
-             the least mean absolute error; water in both segments) to `{}` of the {} points that have it: **{}**, mean |error| {} m³/s. \
-             The thesis' {} gives {} m³/s on the same points. α and β trade off along a narrow valley of the error, so nearby pairs fit \
+             the least mean absolute error; water in both segments) to `{}` of the {} points that have it: **{fitted}**, mean |error| {fitted_error} m³/s. \
+             The thesis' {thesis} gives {thesis_error} m³/s on the same points. α and β trade off along a narrow valley of the error, so nearby pairs fit \
              almost as well; the fit describes this head's flux, not its physics.{}\n\n",
             self.column,
             self.samples.len(),
-            self.model.coefficients_label(),
-            markdown_number(self.fit.mean_absolute_error),
-            self.thesis.coefficients_label(),
-            markdown_number(self.thesis_error),
             self.caveat().map_or_else(String::new, |c| format!(" Note: {c}."))
         ));
-        text.push_str(&format!(
-            "| {key} | simulated [m³/s] | thesis' model, {} [m³/s] | fitted model, {} [m³/s] |\n|---|---|---|---|\n",
-            self.thesis.coefficients_label(),
-            self.model.coefficients_label()
-        ));
+        text.push_str(&format!("| {key} | simulated [m³/s] | thesis' model, {thesis} [m³/s] | fitted model, {fitted} [m³/s] |\n|---|---|---|---|\n"));
         for (x, sample) in &self.samples {
             let by_thesis = self.thesis.answer(sample.rpm, sample.suction_discharge)?.outflow_water;
             let by_fit = self.model.answer(sample.rpm, sample.suction_discharge)?.outflow_water;
