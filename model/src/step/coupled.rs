@@ -56,6 +56,7 @@ use crate::state::State;
 mod exit_route;
 mod later_batch;
 pub mod median;
+mod particle_stage;
 mod retry;
 
 use median::median;
@@ -112,6 +113,11 @@ pub type ParticlesOnly<P> = Coupled<Absent, P>;
 
 fn unsupported(what: impl Into<String>) -> SolverError {
     SolverError::Unsupported(what.into())
+}
+
+/// The error of a step that diverged, at the step's end time.
+fn diverged(ctx: &StepContext, what: String) -> SolverError {
+    SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what }
 }
 
 impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
@@ -322,7 +328,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         // 1. clock and rotor pose
         let ctx = StepContext::new(self.state.step + 1, self.state.time, dt, self.state.dt, self.scheme, self.rotor());
         let ctx = self.start_up.map_or(ctx, |s| s.step(ctx, self.scheme));
-        let diverged = |what: String| SolverError::Diverged { step: ctx.step, time: ctx.time_end(), what };
+        let diverged = |what: String| diverged(&ctx, what);
         if ctx.time_end() <= ctx.time {
             return Err(diverged(format!("the time step {dt:e} s no longer advances the clock from t = {} s", ctx.time)));
         }
@@ -332,117 +338,7 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
 
         // 2–5. particles: batches, feed, sample, DEM sub-steps, exits
         self.place_due_batches(&ctx)?;
-        let mut load: Option<ParticleLoad> = None;
-        if let Some(phase) = self.particles.as_mut() {
-            let section = self.particle_section.as_ref().expect("a particle phase has a [particles] section");
-            let particles = self.state.particles.as_mut().expect("checked in new");
-            // a head's blades turn: a new particle must be inside the contour (or it would count
-            // as spilled at once) and clear of the blades at both ends of the step
-            let head = self.head.as_ref().map(|(h, _)| h);
-            let angles = ctx.rotor.map(|r| [self.state.rotor_angle, r.angle]);
-            bookkeeping::feed(section, particles, ctx.time, dt, |p, radius| match (head, angles) {
-                (Some(head), Some(angles)) => {
-                    let r = p.x.hypot(p.y);
-                    head.inside_hull(r + radius, p.z) && angles.iter().all(|a| head.sphere_is_clear(r, p.y.atan2(p.x) - a, p.z, radius))
-                }
-                _ => true,
-            });
-            if let (Some(solids), Some(fluid)) = (self.solids_pressure.as_mut(), &self.fluid) {
-                let done = solids.correct(fluid.mesh(), &mut particles.particles, section.modifier, dt).map_err(|e| diverged(e.to_string()))?;
-                report.values.extend([
-                    ("solids_fraction_max", done.largest_fraction),
-                    ("solids_fraction_max_after", done.largest_fraction_after),
-                    ("solids_pressure_correction_max", done.largest_correction),
-                    ("solids_pressure_iterations", done.iterations as f64),
-                ]);
-            }
-            self.samples.clear();
-            match (&self.fluid, &self.state.fluid, &self.mapping) {
-                (Some(fluid), Some(fluid_state), Some(map)) => {
-                    map.sample_with(&mut self.stencils, &fluid.sample_source(fluid_state), &particles.particles, &mut self.samples)
-                }
-                (Some(fluid), Some(fluid_state), None) => sample_containing_cell(&fluid.sample_source(fluid_state), &particles.particles, &mut self.samples),
-                _ => self.samples.resize(particles.particles.len(), self.ambient),
-            }
-            let walls = self.state.walls.as_mut().expect("checked in new");
-            load = phase.advance(&ctx, particles, walls, &self.samples, report)?;
-            if let Some(l) = &load {
-                if [l.volume.len(), l.implicit_drag.len(), l.explicit_force.len()].iter().any(|&n| n != particles.particles.len()) {
-                    return Err(unsupported(format!(
-                        "the particle phase returned a load for {} particles, but there are {}",
-                        l.volume.len(),
-                        particles.particles.len()
-                    )));
-                }
-            }
-            if let Some(p) = particles.particles.iter().find(|p| !(p.position.iter().chain(p.velocity.iter()).chain(p.spin.iter()).all(|v| v.is_finite()))) {
-                return Err(diverged(format!(
-                    "particle {} has a non-finite value: position {:?} m, velocity {:?} m/s, spin {:?} rad/s",
-                    p.id,
-                    p.position.as_slice(),
-                    p.velocity.as_slice(),
-                    p.spin.as_slice()
-                )));
-            }
-            let mesh = self.fluid.as_ref().map(|f| f.mesh());
-            let closed = &self.closed_patches;
-            // a receding wall's crater lies beyond the fluid mesh (which does not follow the
-            // wear), as deep as the wall has receded: a particle in it has not left
-            let crater = self.state.wear.as_ref().map_or(0.0, |w| w.walls.iter().flat_map(|w| &w.node_depth).fold(0.0, |a: f64, d| a.max(*d)));
-            let domain = section.domain.clone();
-            let head = self.head.as_ref().map(|(h, _)| h);
-            let (mut index, mut gone) = (0, Vec::new());
-            bookkeeping::remove_exited(particles, load.as_mut(), ctx.time_end(), |p| {
-                let route = match head {
-                    // a head's particles leave by its rules (its solids' staircase cells are
-                    // no exit)
-                    Some(head) => exit_route(domain.as_ref(), None, &[], &p.position, p.diameter).or_else(|| spillage::exit_route(head, &p.position)),
-                    None => exit_route(domain.as_ref(), mesh, closed, &p.position, p.diameter + crater),
-                };
-                if route.is_some() {
-                    gone.push(index);
-                }
-                index += 1;
-                route
-            });
-            // the samples follow their particles out: they stay in particle order (output)
-            if !gone.is_empty() {
-                let mut i = 0;
-                self.samples.retain(|_| {
-                    i += 1;
-                    gone.binary_search(&(i - 1)).is_err()
-                });
-            }
-            report.values.push(("particles", particles.particles.len() as f64));
-            report.values.push(("escaped", particles.escaped() as f64));
-            if self.head.is_some() {
-                let counts = SpillageCounts::from_exits(&particles.exits);
-                let created = particles.counts.created;
-                if created != particles.particles.len() as u64 + counts.sucked + counts.spilled + counts.other {
-                    return Err(diverged(format!(
-                        "particle counts not conserved: {created} created, {} inside, {} sucked, {} spilled, {} left otherwise",
-                        particles.particles.len(),
-                        counts.sucked,
-                        counts.spilled,
-                        counts.other
-                    )));
-                }
-                let fraction = |n: u64| if created > 0 { n as f64 / created as f64 } else { 0.0 };
-                report.values.extend([
-                    ("sucked", counts.sucked as f64),
-                    ("spilled", counts.spilled as f64),
-                    ("production", fraction(counts.sucked)),
-                    ("spillage", fraction(counts.spilled)),
-                ]);
-            }
-            report.values.push(("impacts", particles.counts.impacts as f64));
-            // every step reports the same columns (series.csv has one header): 0 while a feed
-            // has not placed any particle yet
-            if let Some(down) = self.down {
-                let settling = if particles.particles.is_empty() { 0.0 } else { median(particles.particles.iter().map(|p| p.velocity.dot(&down)).collect()) };
-                report.values.push(("settling_velocity", settling));
-            }
-        }
+        let load = self.advance_particles(&ctx, report)?;
 
         // 6. map the particle load to the cells; α_c of this step
         if let (Some(map), Some(phase)) = (&self.mapping, &self.fluid) {
