@@ -191,13 +191,24 @@ fn head_lines(case: &Case) -> Vec<String> {
     if let Ok(profile) = CutterProfile::new(points) {
         if let Ok(sol) = solve(&SpillageInputs::calibrated_water(profile, rpm, head.suction_discharge)) {
             lines.push(format!(
-                "             Euler-turbine model (α 0.375, β 0.774, water): out-flowing flux {:.4} m³/s = {:.3} Q_m",
+                "             Euler-turbine model (α 0.375, β 0.774, water): out-flowing flux {:.4} m³/s = {:.3} Q_m{}",
                 sol.outflow_discharge,
-                sol.outflow_discharge / head.suction_discharge
+                sol.outflow_discharge / head.suction_discharge,
+                lean_caveat(head.blade_sweep)
             ));
         }
     }
     lines
+}
+
+/// The Euler-turbine model has one velocity triangle (spec §2.4, Eqs. 4.67–4.70) and reads φ
+/// the same whichever way the blades lean (`cutter_head.blade_sweep`); with the non-default
+/// lean the check says so beside the flux it prints.
+fn lean_caveat(sweep: spillage_model::cutter_head::BladeSweep) -> &'static str {
+    match sweep {
+        spillage_model::cutter_head::BladeSweep::Backward => "",
+        spillage_model::cutter_head::BladeSweep::Forward => " (the model does not see the blades' forward lean: one velocity triangle, §2.4)",
+    }
 }
 
 /// The head's haul velocity (the current past it, `cutter_head::current`) as `spillage check`

@@ -524,22 +524,24 @@ fn particles_carried_to_the_tank_wall_are_spilled_not_lost() {
     }
 }
 
+/// What `spillage check PATH` prints (it must succeed).
+fn spillage_check(path: &Path) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_spillage")).args(["check", path.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// Every shipped head case says which way gravity pulls along its axis, and all pull as the
 /// default: toward the ring, the thesis' reading (model::cutter_head::ladder; README, "Which
 /// way the ladder leans"); the dredger's way round, the hub lowest, is named as such.
 #[test]
 fn check_names_which_way_gravity_pulls_along_the_axis() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let check = |path: &Path| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_spillage")).args(["check", path.to_str().unwrap()]).output().unwrap();
-        assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    };
     let ring = "ladder angle 45.0° (45.0° from the axis +z, hub → ring): its axial part pulls toward the ring, which lies lowest";
     for name in
         ["cutter_head.toml", "cutter_head_converged.toml", "cutter_head_eccentric.toml", "cutter_head_feed.toml", "verification/cutter_head/flow_60rpm.toml"]
     {
-        let text = check(&root.join("cases").join(name));
+        let text = spillage_check(&root.join("cases").join(name));
         assert!(text.contains(ring), "{name}:\n{text}");
     }
     let shipped = std::fs::read_to_string(root.join("cases/cutter_head.toml")).unwrap();
@@ -547,7 +549,29 @@ fn check_names_which_way_gravity_pulls_along_the_axis() {
     assert_ne!(dredger, shipped);
     let path = std::env::temp_dir().join(format!("spillage-hub-lowest-{}.toml", std::process::id()));
     std::fs::write(&path, dredger).unwrap();
-    let text = check(&path);
+    let text = spillage_check(&path);
     assert!(text.contains("ladder angle 45.0° (135.0° from the axis +z, hub → ring): its axial part pulls toward the hub, which lies lowest"), "{text}");
     let _ = std::fs::remove_file(&path);
+}
+
+/// The Euler-turbine model `spillage check` prints beside a head does not see the blades' lean
+/// (one velocity triangle, spec §2.4): with `blade_sweep = "forward"` the line says so and the
+/// flux is the one printed for the default lean; with the default it carries no caveat.
+#[test]
+fn check_says_the_model_does_not_see_a_forward_lean() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model_line =
+        |text: &str| text.lines().find(|l| l.contains("Euler-turbine model")).map(str::to_owned).unwrap_or_else(|| panic!("no model line in:\n{text}"));
+    let caveat = "does not see the blades' forward lean";
+    let backward = model_line(&spillage_check(&root.join("cases/cutter_head.toml")));
+    assert!(!backward.contains(caveat), "{backward}");
+    let shipped = std::fs::read_to_string(root.join("cases/cutter_head.toml")).unwrap();
+    let forward_case = shipped.replacen("blade_twist = ", "blade_sweep = \"forward\"\nblade_twist = ", 1);
+    assert_ne!(forward_case, shipped);
+    let path = std::env::temp_dir().join(format!("spillage-forward-lean-{}.toml", std::process::id()));
+    std::fs::write(&path, forward_case).unwrap();
+    let forward = model_line(&spillage_check(&path));
+    let _ = std::fs::remove_file(&path);
+    assert!(forward.contains(caveat), "{forward}");
+    assert!(forward.starts_with(&backward), "the same flux for either lean:\n{backward}\n{forward}");
 }
