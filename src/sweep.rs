@@ -292,3 +292,11 @@ fn write_results(out: &Path, args: &SweepArgs, case_name: &str, keys: &[SweptKey
 fn swept_numbers(planned: &[PlannedPoint]) -> Option<Vec<f64>> {
     planned.iter().map(|p| p.point.assignments.first()?.1.as_number()).collect()
 }
+
+/// The Euler-turbine model of the shipped head, `cases/cutter_head.toml` (the sweep's tests).
+#[cfg(test)]
+fn shipped_head_model() -> HeadModel {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml");
+    let case = Case::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    HeadModel::of_case(&case).unwrap().unwrap()
+}

@@ -107,15 +107,8 @@ impl ModelCalibration {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::shipped_head_model as thesis_model;
     use crate::sweep::table::{ColumnStats, SeriesSummary};
-    use spillage_model::case::Case;
-    use std::path::Path;
-
-    fn thesis_model() -> HeadModel {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml");
-        let case = Case::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
-        HeadModel::of_case(&case).unwrap().unwrap()
-    }
 
     fn row(columns: &[(&str, f64)], status: &str) -> PointRow {
         let columns = columns.iter().map(|&(name, value)| ColumnStats { name: name.to_string(), final_value: value, mean: value }).collect();

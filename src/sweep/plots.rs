@@ -121,13 +121,7 @@ fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[Po
     if !outflow.is_empty() || !contour.is_empty() {
         let analytic: Vec<(String, Vec<(f64, f64)>)> =
             curves.iter().map(|(label, curve)| (format!("model Q₁ (water, {label})"), curve.iter().map(|(x, a)| (*x, a.outflow_water)).collect())).collect();
-        let mut series = Vec::new();
-        if !outflow.is_empty() {
-            series.push(Series { label: "simulation (hull_outflow_mean)", points: &outflow });
-        }
-        if !contour.is_empty() {
-            series.push(Series { label: "simulation (contour_outflow_mean)", points: &contour });
-        }
+        let mut series = simulated_series([("simulation (hull_outflow_mean)", &outflow), ("simulation (contour_outflow_mean)", &contour)]);
         series.extend(analytic.iter().map(|(label, points)| Series { label, points }));
         let path = dir.join(format!("outflow_vs_{}.png", axis.file_suffix()));
         let plot = Plot {
@@ -153,13 +147,7 @@ fn draw_model_comparison(dir: &Path, axis: OperatingAxis, xs: &[f64], rows: &[Po
                 ]
             })
             .collect();
-        let mut series = Vec::new();
-        if !production.is_empty() {
-            series.push(Series { label: "simulation: production", points: &production });
-        }
-        if !spillage.is_empty() {
-            series.push(Series { label: "simulation: spillage", points: &spillage });
-        }
+        let mut series = simulated_series([("simulation: production", &production), ("simulation: spillage", &spillage)]);
         series.extend(analytic.iter().map(|(label, points)| Series { label, points }));
         let path = dir.join(format!("production_vs_{}.png", axis.file_suffix()));
         let plot = Plot {
@@ -193,17 +181,17 @@ fn model_curve(axis: OperatingAxis, xs: &[f64], model: &HeadModel) -> anyhow::Re
         .collect()
 }
 
+/// The simulated series that have points, in the order given (a column the runs do not
+/// write, such as production without rock, is left off the plot).
+fn simulated_series<'a>(series: [(&'a str, &'a Vec<(f64, f64)>); 2]) -> Vec<Series<'a>> {
+    series.into_iter().filter(|(_, points)| !points.is_empty()).map(|(label, points)| Series { label, points }).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::shipped_head_model as head_model;
     use crate::sweep::table::{ColumnStats, SeriesSummary};
-    use spillage_model::case::Case;
-
-    fn head_model() -> HeadModel {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/cutter_head.toml");
-        let case = Case::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
-        HeadModel::of_case(&case).unwrap().unwrap()
-    }
 
     /// A completed row whose series had the given columns (final = mean = the value).
     fn row(columns: &[(&str, f64)]) -> PointRow {
