@@ -41,9 +41,9 @@ pub struct Calibration {
 
 /// α's grid: the whole range at 0.002, then ±0.002 around the best at 0.0001. α must stay inside
 /// (0, 1): α = 1 makes the model singular (Eq. 4.78).
-const FLOW_FACTOR_STEPS: [f64; 2] = [2e-3, 1e-4];
+pub const FLOW_FACTOR_STEPS: [f64; 2] = [2e-3, 1e-4];
 /// β's grid before its golden-section search, and that search's tolerance.
-const PRESSURE_COEFFICIENT_STEP: f64 = 0.02;
+pub const PRESSURE_COEFFICIENT_STEP: f64 = 0.02;
 const PRESSURE_COEFFICIENT_TOLERANCE: f64 = 1e-7;
 
 /// The mean absolute error of the model with (α, β) on `profile` (water, ρ₁ = ρ₂ = `density`)

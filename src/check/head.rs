@@ -4,10 +4,11 @@
 
 use spillage_model::case::Case;
 
+use crate::verify::head_model::HeadModel;
+
 /// The head's operating point in the thesis' dimensionless numbers (spillage-and-flow-
 /// verification.md §2.11) and the Euler-turbine model's prediction on its contour (§2).
 pub(super) fn head_lines(case: &Case) -> Vec<String> {
-    use spillage_analytic::spillage_model::{solve, CutterProfile, ProfilePoint, SpillageInputs};
     let (Some(head), Some(rotor)) = (&case.cutter_head, &case.rotor) else { return Vec::new() };
     let omega = rotor.angular_velocity().abs();
     let rpm = omega * 60.0 / std::f64::consts::TAU;
@@ -28,13 +29,14 @@ pub(super) fn head_lines(case: &Case) -> Vec<String> {
     ];
     lines.push(haul_line(head, omega * r_c));
     lines.push(format!("             {}", spillage_model::cutter_head::ladder::LadderTilt::of(case.physics.gravity).describe()));
-    let points = head.contour.iter().map(|p| ProfilePoint { axial_distance: p[0], radius: p[1], blade_angle: p[2].to_radians() }).collect();
-    if let Ok(profile) = CutterProfile::new(points) {
-        if let Ok(sol) = solve(&SpillageInputs::calibrated_water(profile, rpm, head.suction_discharge)) {
+    // the model on the case's own contour, as `spillage sweep` and `spillage verify` evaluate it
+    if let Some(Ok(model)) = HeadModel::of_case(case) {
+        if let Ok(answer) = model.answer_at_case() {
             lines.push(format!(
-                "             Euler-turbine model (α 0.375, β 0.774, water): out-flowing flux {:.4} m³/s = {:.3} Q_m{}",
-                sol.outflow_discharge,
-                sol.outflow_discharge / head.suction_discharge,
+                "             Euler-turbine model ({}, water): out-flowing flux {:.4} m³/s = {:.3} Q_m{}",
+                model.coefficients_label(),
+                answer.outflow_water,
+                answer.outflow_water / head.suction_discharge,
                 lean_caveat(head.blade_sweep)
             ));
         }

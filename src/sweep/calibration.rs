@@ -3,7 +3,7 @@
 //! simulated out-flowing flux of the completed points, so a user sees the thesis' pair and
 //! the pair that fits their head side by side, in `sweep.md` and the comparison plots.
 
-use spillage_analytic::spillage_calibration::{Calibration, FluxSample};
+use spillage_analytic::spillage_calibration::{Calibration, FluxSample, FLOW_FACTOR_STEPS, PRESSURE_COEFFICIENT_STEP};
 
 use super::analytic::HeadModel;
 use super::plots::{simulated, OperatingAxis};
@@ -61,13 +61,15 @@ impl ModelCalibration {
         [self.model.coefficients_label(), markdown_number(self.fit.mean_absolute_error), self.thesis.coefficients_label(), markdown_number(self.thesis_error)]
     }
 
-    /// Why the pair may not mean much: it sits on the edge of the allowed range (the best lies
-    /// beyond it), or no pair fits better than another (no outflow to fit).
+    /// Why the pair may not mean much: it sits on the edge of the allowed range, within one of
+    /// the search's coarse grid steps of an end (the best lies beyond it), or no pair fits
+    /// better than another (no outflow to fit).
     fn caveat(&self) -> Option<String> {
         let (alpha, beta) = (self.fit.flow_factor, self.fit.pressure_coefficient);
+        let (alpha_step, beta_step) = (FLOW_FACTOR_STEPS[0], PRESSURE_COEFFICIENT_STEP);
         if self.samples.iter().all(|(_, s)| s.outflow == 0.0) {
             Some("no point has outflow, so every pair giving none fits as well".into())
-        } else if beta < 0.02 || beta > 0.98 || !(0.002..=0.998).contains(&alpha) {
+        } else if beta < beta_step || beta > 1.0 - beta_step || !(alpha_step..=1.0 - alpha_step).contains(&alpha) {
             Some("the pair sits on the edge of the allowed range (α in (0, 1), β in [0, 1]): the least error lies beyond it".into())
         } else {
             None

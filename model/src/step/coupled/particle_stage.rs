@@ -114,15 +114,15 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         // a receding wall's crater lies beyond the fluid mesh (which does not follow the
         // wear), as deep as the wall has receded: a particle in it has not left
         let crater = self.state.wear.as_ref().map_or(0.0, |w| w.walls.iter().flat_map(|w| &w.node_depth).fold(0.0, |a: f64, d| a.max(*d)));
-        let domain = section.domain.clone();
+        let domain = section.domain.as_ref();
         let head = self.head.as_ref().map(|(h, _)| h);
         let (mut index, mut gone) = (0, Vec::new());
         bookkeeping::remove_exited(particles, load, ctx.time_end(), |p| {
             let route = match head {
                 // a head's particles leave by its rules (its solids' staircase cells are
                 // no exit)
-                Some(head) => exit_route(domain.as_ref(), None, &[], &p.position, p.diameter).or_else(|| spillage::exit_route(head, &p.position)),
-                None => exit_route(domain.as_ref(), mesh, closed, &p.position, p.diameter + crater),
+                Some(head) => exit_route(domain, None, &[], &p.position, p.diameter).or_else(|| spillage::exit_route(head, &p.position)),
+                None => exit_route(domain, mesh, closed, &p.position, p.diameter + crater),
             };
             if route.is_some() {
                 gone.push(index);
