@@ -452,14 +452,14 @@ fn particle_lines(case: &Case) -> Vec<String> {
         });
     }
     if case.fluid.is_some() {
-        use spillage_model::coupling::{Feedback, MappingMethod};
+        use spillage_model::coupling::{Feedback, InterfaceTreatment, MappingMethod};
         let represents = |r#where: &str| match p.modifier {
             1.0 => String::new(),
             m => format!("; each particle counts as {m} real ones {where} ([particles] modifier)"),
         };
         lines.push(match &case.coupling {
             Some(c) => format!(
-                "coupling     two-way: method \"{}\", γ = {} (σ = γ d_p), feedback \"{}\"{}",
+                "coupling     two-way: method \"{}\", γ = {} (σ = γ d_p), feedback \"{}\"{}{}",
                 match c.method {
                     MappingMethod::Centroid => "centroid",
                     MappingMethod::Kernel => "kernel",
@@ -469,6 +469,12 @@ fn particle_lines(case: &Case) -> Vec<String> {
                 match c.feedback {
                     Feedback::DragAndFluidAcceleration => "drag_and_fluid_acceleration",
                     Feedback::Literal => "literal",
+                },
+                match (c.interface, c.masks_interface()) {
+                    (InterfaceTreatment::Span, false) => "; kernels reach across a sliding interface (interface = \"span\")",
+                    (InterfaceTreatment::Span, true) => "; kernels reach across a sliding interface (interface = \"span\"), ∂α_c/∂t masked next to it",
+                    (InterfaceTreatment::Truncate, true) => "",
+                    (InterfaceTreatment::Truncate, false) => "; kernels stop at a sliding interface, ∂α_c/∂t not masked (interface_mask = false)",
                 },
                 represents(if case.wear.is_some() { "in the water and on the walls" } else { "in the water" })
             ),

@@ -197,3 +197,29 @@ fn check_warns_of_representative_particles_that_would_pack() {
         );
     }
 }
+
+/// `spillage check` says when kernels reach across a sliding interface (`[coupling] interface =
+/// "span"`), and says nothing more for the thesis' truncated, masked kernels; a span with the
+/// diffusion method is refused, naming the key.
+#[test]
+fn check_says_when_kernels_reach_across_the_interface() {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/coupling/interface_crossing.toml");
+    let text = std::fs::read_to_string(&source).unwrap();
+    let dir = scratch("interface-span");
+    let span = dir.join("interface_crossing_span.toml");
+    let edited = text.replacen("distance_factor = 1.0\n", "distance_factor = 1.0\ninterface = \"span\"\n", 1);
+    assert_ne!(edited, text, "the edit found distance_factor");
+    std::fs::write(&span, &edited).unwrap();
+    for (case, spans) in [(source.clone(), false), (span.clone(), true)] {
+        let out = spillage(&["check", case.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout.lines().find(|l| l.starts_with("coupling")).unwrap_or_else(|| panic!("no coupling line in\n{stdout}"));
+        assert_eq!(line.contains("reach across a sliding interface (interface = \"span\")"), spans, "{line}");
+    }
+    let diffusion = dir.join("interface_crossing_span_diffusion.toml");
+    std::fs::write(&diffusion, edited.replacen("method = \"kernel\"\ndistance_factor = 1.0\n", "method = \"diffusion\"\ndistance_factor = 3.0\n", 1)).unwrap();
+    let out = spillage(&["check", diffusion.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("coupling.interface") && stderr.contains("kernel"), "{stderr}");
+}

@@ -112,6 +112,14 @@ const ABOUT: &[(&str, About)] = &[
         ),
     ),
     (
+        "coupling_turning_cells",
+        a(
+            "a rock held at rest in still water inside a turning rotor zone: the water must stay at rest while the cells slide under the rock's footprint",
+            "water at rest; the left-over flow, the kernel's truncation error, falls as the mesh is refined",
+            "fluid-dem-model.md §2.3 (T3.89) in the ALE form of §4.1",
+        ),
+    ),
+    (
         "dem_hertz_elastic",
         a(
             "elastic normal impacts at several speeds: peak overlap, peak force, contact time, energy conservation",

@@ -37,10 +37,19 @@ use super::{CheckRow, FluidSolver};
 mod budgets;
 mod held;
 mod interface;
+mod turning_cells;
 
 /// Checks implemented here.
-pub const CHECKS: &[&str] =
-    &["coupling_settling", "coupling_stokes", "coupling_hindered", "coupling_hydrostatic", "coupling_held", "coupling_budgets", "coupling_interface"];
+pub const CHECKS: &[&str] = &[
+    "coupling_settling",
+    "coupling_stokes",
+    "coupling_hindered",
+    "coupling_hydrostatic",
+    "coupling_held",
+    "coupling_budgets",
+    "coupling_interface",
+    "coupling_turning_cells",
+];
 
 /// Runs `check`; with `plots`, also draws its figure(s) there (settling velocity against time with
 /// the analytic curve; cloud velocity against α_p with the closure and Richardson–Zaki).
@@ -57,6 +66,7 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>, sol
         "coupling_held" => held::held_suspension(case, plots, solver),
         "coupling_budgets" => budgets::budgets(case, solver),
         "coupling_interface" => interface_crossing(case, full, solver),
+        "coupling_turning_cells" => turning_cells::rock_at_rest(case, solver),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }
 }
@@ -111,6 +121,8 @@ struct Trace {
     continuity_cumulative: Vec<f64>,
     /// Largest single-cell continuity error of the step (`continuity_cell_max`) [m³].
     continuity_cell_max: Vec<f64>,
+    /// Largest water speed any particle saw in the step, |u_c|p| [m/s].
+    seen_speed: Vec<f64>,
     /// The mesh and state at the end (`None` until the run ends).
     mesh: Option<Mesh>,
     state: State,
@@ -144,6 +156,7 @@ fn run_with<F: FluidPhase, P: ParticlePhase>(case: &Case, mut solver: Coupled<F,
         continuity_global: Vec::new(),
         continuity_cumulative: Vec::new(),
         continuity_cell_max: Vec::new(),
+        seen_speed: Vec::new(),
         mesh: None,
         state: State::default(),
     };
@@ -155,6 +168,7 @@ fn run_with<F: FluidPhase, P: ParticlePhase>(case: &Case, mut solver: Coupled<F,
         trace.continuity_global.push(value("continuity_global").unwrap_or(f64::NAN));
         trace.continuity_cumulative.push(value("continuity_cumulative").unwrap_or(f64::NAN));
         trace.continuity_cell_max.push(value("continuity_cell_max").unwrap_or(f64::NAN));
+        trace.seen_speed.push(solver.fluid_at_particles().iter().flatten().map(|f| f.velocity.norm()).fold(0.0, f64::max));
     }
     trace.mesh = Some(solver.mesh().ok_or_else(|| anyhow!("no mesh"))?.clone());
     trace.state = solver.state().clone();

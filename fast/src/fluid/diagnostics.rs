@@ -3,6 +3,8 @@
 //! kinetic energy and the sliding-interface flux imbalance. Sums and maxima are fixed-order
 //! reductions ([`Reducer`]), so they do not depend on the thread count.
 
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
+
 use super::assembly::{par_for, Out};
 use super::buffers::DiagnosticBuffers;
 use super::layout::Links;
@@ -55,7 +57,8 @@ pub fn step_diagnostics(
     }
 }
 
-/// Per cell: the continuity error e_c = ∂α/∂t V + Σ_f α_f φ_f and the Courant number
+/// Per cell: the continuity error e_c = ∂α/∂t V + Σ_f α_f (φ_f − φ_mesh,f) (the mesh fluxes' sum,
+/// zero for a rigid rotation, left out: spillage_model::fluid::moving_cells) and the Courant number
 /// ½Δt Σ_f |φ_f − φ_mesh,f| / V.
 fn continuity_errors_and_courant(disc: &Discretisation, time: TimeStep, alpha: VolumeFractions, solution: StepSolution, work: &mut DiagnosticBuffers) {
     let (links, adj, bnd, vol) = (disc.links, disc.adjacency, disc.boundary, disc.cell_volumes);
@@ -70,16 +73,17 @@ fn continuity_errors_and_courant(disc: &Discretisation, time: TimeStep, alpha: V
             let e = adj.entry[k] as usize;
             let l = e >> 1;
             let alpha_f = links.interpolate(l, a[links.owner[l] as usize], a[links.neighbour[l] as usize]);
+            let outflow = alpha_f * link_flux[l] - particle_share_of_mesh_flux(alpha_f, links.mesh_flux[l]);
             if e & 1 == 1 {
-                error += alpha_f * link_flux[l];
+                error += outflow;
             } else {
-                error -= alpha_f * link_flux[l];
+                error -= outflow;
             }
             relative_flux_sum += (link_flux[l] - links.mesh_flux[l]).abs();
         }
         for &b in disc.boundary_faces_of(c) {
             let b = b as usize;
-            error += a[c] * boundary_flux[b];
+            error += a[c] * boundary_flux[b] - particle_share_of_mesh_flux(a[c], bnd.mesh_flux[b]);
             relative_flux_sum += (boundary_flux[b] - bnd.mesh_flux[b]).abs();
         }
         unsafe {

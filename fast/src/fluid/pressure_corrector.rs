@@ -8,6 +8,7 @@
 use rayon::prelude::*;
 use spillage_model::coupling::mask::{band_weight, BandRate};
 use spillage_model::fluid::conditions::Condition;
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::fluid::settings::PressureWallCondition;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
@@ -315,7 +316,17 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     // the interface mask's band: its net ∂α/∂t V and the weight it is spread by (serial, in
     // cell order, as the reference: the same bits on any thread count)
     let weight = |c: usize| band_weight(alpha.current[c], alpha.old[c], alpha.old_old[c], vol[c]);
-    let band = particles.map_or_else(BandRate::default, |p| BandRate::of(&p.masked, |c| alpha.rate_times_volume(time, c, vol[c]), weight));
+    // ∂α/∂t V at the cell's place: following the cell, less the particles' share of its mesh
+    // fluxes (spillage_model::fluid::moving_cells; without particles α ≡ 1 and it is zero)
+    let rate = |c: usize| {
+        let following = alpha.rate_times_volume(time, c, vol[c]);
+        if particles.is_some() {
+            following - particle_mesh_flux_share(&disc, alpha.current, c)
+        } else {
+            following
+        }
+    };
+    let band = particles.map_or_else(BandRate::default, |p| BandRate::of(&p.masked, rate, weight));
     par_for(disc.n_cells(), |c| {
         let a = alpha.current;
         let mut diag = 0.0;
@@ -343,12 +354,12 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
                 _ => {}
             }
         }
-        // ∂α/∂t V; where the interface mask covers the cell, its share of the band's net rate
-        // (T4.54; spillage_model::coupling::mask)
+        // ∂α/∂t V at the cell's place; where the interface mask covers the cell, its share of
+        // the band's net rate (T4.54; spillage_model::coupling::mask)
         if particles.is_some_and(|p| p.masked[c]) {
             rhs -= band.share(weight(c));
         } else {
-            rhs -= alpha.rate_times_volume(time, c, vol[c]);
+            rhs -= rate(c);
         }
         unsafe {
             out_diagonal.set(c, diag);
@@ -358,6 +369,28 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     if !disc.conditions.has_fixed_pressure {
         work.pressure_matrix.diag[0] *= 2.0;
     }
+}
+
+/// Σ_f (α_f − 1) φ_mesh,f of cell `c`, the faces oriented out of it: the particles' share of
+/// the mesh fluxes that its ∂α/∂t V, which follows the turning cell, owes the continuity
+/// (spillage_model::fluid::moving_cells; the reference's `particle_mesh_flux_shares`).
+fn particle_mesh_flux_share(disc: &Discretisation, alpha: &[f64], c: usize) -> f64 {
+    let (links, adj, bnd) = (disc.links, disc.adjacency, disc.boundary);
+    let mut share = 0.0;
+    for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
+        let e = adj.entry[k] as usize;
+        let l = e >> 1;
+        let s = particle_share_of_mesh_flux(links.interpolate(l, alpha[links.owner[l] as usize], alpha[links.neighbour[l] as usize]), links.mesh_flux[l]);
+        if e & 1 == 1 {
+            share += s;
+        } else {
+            share -= s;
+        }
+    }
+    for &b in disc.boundary_faces_of(c) {
+        share += particle_share_of_mesh_flux(alpha[c], bnd.mesh_flux[b as usize]);
+    }
+    share
 }
 
 /// The pressure matrix of `matrix`'s pattern with the geometric coefficients alone: −|S|²/(d·S)

@@ -6,6 +6,7 @@
 
 use spillage_model::cutter_head::mouth::balancing_speed;
 use spillage_model::fluid::conditions::{fluid_volume_rate, Conditions};
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
@@ -164,6 +165,7 @@ pub fn balance_suction(
                 other += weighted;
             }
         }
+        other -= particle_share_of_mesh_flux(fluid.alpha[boundary.cell[b] as usize], boundary.mesh_flux[b]);
     }
     let rate = fluid_volume_rate([&fluid.alpha, &fluid.alpha_old, &fluid.alpha_old_old], volumes, time.coefficients, time.dt);
     let speed = balancing_speed(unit, other, rate).map_err(SolverError::Unsupported)?;

@@ -31,7 +31,7 @@ use super::accumulate::{accumulate_in_order, Accumulator, CellSums};
 use super::cell_search::CellSearch;
 use super::diffusion::Diffusion;
 use super::kernel::{self, KernelGeometry, Stencil};
-use super::settings::{CouplingSection, MappingMethod};
+use super::settings::{CouplingSection, InterfaceTreatment, MappingMethod};
 use super::stencil_cache::{BuilderMemory, StencilCache, Weights};
 use crate::closure::drag::FluidAtParticle;
 use crate::fluid::sampling::{material_acceleration, FluidSample};
@@ -85,6 +85,8 @@ impl CellLoad {
 pub struct ParticleMeshMap {
     pub method: MappingMethod,
     pub distance_factor: f64,
+    /// Where a kernel may reach at a sliding interface.
+    pub interface: InterfaceTreatment,
     pub interface_mask: bool,
     pub min_fluid_fraction: f64,
     /// Real particles each simulated one stands for (`[particles] modifier`): the deposited
@@ -188,7 +190,8 @@ impl ParticleMeshMap {
         Self {
             method: section.method,
             distance_factor: section.distance_factor,
-            interface_mask: section.interface_mask,
+            interface: section.interface,
+            interface_mask: section.masks_interface(),
             min_fluid_fraction: section.min_fluid_fraction,
             modifier: 1.0,
             solvers: MappingSolvers::IN_ORDER,
@@ -283,7 +286,7 @@ impl ParticleMeshMap {
                 mesh,
                 search,
                 wall_faces: &walls,
-                truncate_at_interface: !mesh.interfaces.is_empty(),
+                truncate_at_interface: !mesh.interfaces.is_empty() && self.interface == InterfaceTreatment::Truncate,
                 empty_normal: super::cell_quadrature::empty_normal(mesh),
             };
             (self.solvers.stencils)(&geo, particles, gamma, build, &mut cache.stencils, &mut cache.memory);

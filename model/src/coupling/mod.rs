@@ -24,5 +24,5 @@ pub mod settings;
 pub mod stencil_cache;
 
 pub use mapping::{CellLoad, MappingSolvers, ParticleMeshMap, Sampler, Smoother, StencilBuilder};
-pub use settings::{CouplingSection, Feedback, MappingMethod};
+pub use settings::{CouplingSection, Feedback, InterfaceTreatment, MappingMethod};
 pub use stencil_cache::{BuilderMemory, StencilCache, Weights};

@@ -33,11 +33,25 @@ pub enum Feedback {
     Literal,
 }
 
+/// Where a kernel may reach at a sliding interface (fluid-dem-model.md §6.7, Table 4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InterfaceTreatment {
+    /// Only the cells of the particle's own zone, normalised over them (T4.48*, the thesis):
+    /// a crossing particle's footprint jumps from one side to the other, so ∂α_c/∂t is masked
+    /// next to the interface by default.
+    #[default]
+    Truncate,
+    /// The cells of both zones at their current pose, by distance as anywhere else [R,
+    /// deviation]: the footprint moves smoothly through the interface and no mask is needed.
+    /// The thesis truncated for reasons of its implementation (§6.7: OpenFOAM keeps the
+    /// interface on one processor for the DEM, and the adjacency across it changes in time),
+    /// which a kernel found by distance does not have. The kernel method only.
+    Span,
+}
+
 fn default_distance_factor() -> f64 {
     1.0
-}
-fn yes() -> bool {
-    true
 }
 fn default_min_fluid_fraction() -> f64 {
     0.05
@@ -54,11 +68,15 @@ pub struct CouplingSection {
     pub distance_factor: f64,
     #[serde(default)]
     pub feedback: Feedback,
+    /// `"truncate"` (default, the thesis) or `"span"`: where a kernel may reach at a sliding
+    /// interface ([`InterfaceTreatment`]).
+    #[serde(default)]
+    pub interface: InterfaceTreatment,
     /// Mask ∂α_c/∂t in the pressure equation within the kernel support 3σ of a sliding
-    /// interface (T4.54, §6.7): the band keeps only its net rate ([`super::mask`]). Default on,
-    /// as in the thesis.
-    #[serde(default = "yes")]
-    pub interface_mask: bool,
+    /// interface (T4.54, §6.7): the band keeps only its net rate ([`super::mask`]). Default on
+    /// with `interface = "truncate"`, as in the thesis, off with `"span"` ([`Self::masks_interface`]).
+    #[serde(default)]
+    pub interface_mask: Option<bool>,
     /// Single-sphere drag law (`"brown_lawler"`, the thesis' choice; `"schiller_naumann"`;
     /// `"stokes"`).
     #[serde(default)]
@@ -71,7 +89,20 @@ pub struct CouplingSection {
 }
 
 impl CouplingSection {
+    /// Whether ∂α_c/∂t is masked next to a sliding interface: as the case says, else only where
+    /// the kernel stops at it.
+    pub fn masks_interface(&self) -> bool {
+        self.interface_mask.unwrap_or(self.interface == InterfaceTreatment::Truncate)
+    }
+
     pub fn validate(&self) -> Result<(), FieldError> {
+        if self.interface == InterfaceTreatment::Span && self.method != MappingMethod::Kernel {
+            return Err(FieldError::new(
+                "coupling.interface",
+                "\"span\"",
+                "\"truncate\" with this method: only the kernel method can reach across a sliding interface (the centroid method deposits in the host cell, the diffusion method's smoothing stops at the interface)",
+            ));
+        }
         positive("coupling.distance_factor", self.distance_factor, "(σ = γ d_p)")?;
         in_range("coupling.distance_factor", self.distance_factor, 0.0, 20.0, "(σ = γ d_p)")?;
         if self.method == MappingMethod::Diffusion && self.distance_factor < super::mapping::SPHERE_WIDTH_FACTOR {

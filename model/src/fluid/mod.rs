@@ -5,6 +5,7 @@ pub mod conditions;
 pub mod frozen_rotor;
 pub mod initial;
 pub mod limiter;
+pub mod moving_cells;
 pub mod sampling;
 pub mod settings;
 pub mod state;

@@ -1,21 +1,25 @@
 //! Per-step diagnostics of the fluid solution (spec U-31, T4.44).
 
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::mesh::Vec3;
 
 use super::geometry::{Geometry, LinkOrigin};
 use super::momentum::StepInputs;
 
-/// Continuity errors e_c = ∂α/∂t V + Σ_f α_f φ_f per cell [m³/s].
+/// Continuity errors e_c = ∂α/∂t V + Σ_f α_f (φ_f − φ_mesh,f) per cell [m³/s] (the mesh
+/// fluxes' sum over a cell, zero for a rigid rotation, left out: `moving_cells`).
 pub fn continuity_errors(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64]) -> Vec<f64> {
     let geo = inputs.geo;
     let mut e: Vec<f64> = (0..geo.n_cells()).map(|c| inputs.alpha_rate_volume(c)).collect();
     for (l, link) in geo.links.iter().enumerate() {
         let alpha_f = link.interpolate(inputs.alpha[link.owner], inputs.alpha[link.neighbour]);
-        e[link.owner] += alpha_f * link_flux[l];
-        e[link.neighbour] -= alpha_f * link_flux[l];
+        let outflow = alpha_f * link_flux[l] - particle_share_of_mesh_flux(alpha_f, link.mesh_flux);
+        e[link.owner] += outflow;
+        e[link.neighbour] -= outflow;
     }
     for (b, face) in geo.boundary.iter().enumerate() {
-        e[face.cell] += inputs.alpha[face.cell] * boundary_flux[b];
+        let alpha = inputs.alpha[face.cell];
+        e[face.cell] += alpha * boundary_flux[b] - particle_share_of_mesh_flux(alpha, face.mesh_flux);
     }
     e
 }

@@ -34,6 +34,7 @@ use spillage_model::closure::rotating_frame::RotatingFrame;
 use spillage_model::coupling::mask::{band_weight, BandRate};
 use spillage_model::coupling::CellLoad;
 use spillage_model::fluid::frozen_rotor::FrozenRotor;
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
 use spillage_model::turbulence::Viscosity;
@@ -90,17 +91,40 @@ impl StepInputs<'_> {
         (c0 * self.alpha[cell] + c1 * self.alpha_old[cell] + c2 * self.alpha_old_old[cell]) * self.volumes[cell] / self.dt
     }
 
-    /// ∂α/∂t · V per cell as the pressure equation takes it (T4.54, §6.7): in the cells the
-    /// interface mask covers, their share of the band's net rate (spillage_model::coupling::mask:
-    /// the redistribution inside the band is left out, the volume entering or leaving it is not).
+    /// Σ_f (α_f − 1) φ_mesh,f per cell, the faces oriented out of it: the particles' share of
+    /// the mesh fluxes that a turning cell's ∂α/∂t V, which follows the cell, owes its
+    /// continuity (spillage_model::fluid::moving_cells). Zero on a mesh that stands still.
+    pub fn particle_mesh_flux_shares(&self) -> Vec<f64> {
+        let mut share = vec![0.0; self.volumes.len()];
+        if self.rotor.is_none() {
+            return share;
+        }
+        for link in &self.geo.links {
+            let s = particle_share_of_mesh_flux(link.interpolate(self.alpha[link.owner], self.alpha[link.neighbour]), link.mesh_flux);
+            share[link.owner] += s;
+            share[link.neighbour] -= s;
+        }
+        for face in &self.geo.boundary {
+            share[face.cell] += particle_share_of_mesh_flux(self.alpha[face.cell], face.mesh_flux);
+        }
+        share
+    }
+
+    /// The rate the pressure equation takes per cell: ∂α/∂t · V following the cell less the
+    /// particles' share of its mesh fluxes ([`Self::particle_mesh_flux_shares`]), which is the
+    /// rate at the cell's place; in the cells the interface mask covers, their share of the
+    /// band's net rate (T4.54, §6.7; spillage_model::coupling::mask: the redistribution inside
+    /// the band is left out, the volume entering or leaving it is not).
     pub fn alpha_rates_volume_in_pressure(&self) -> Vec<f64> {
         let n = self.volumes.len();
+        let shares = self.particle_mesh_flux_shares();
+        let rate = |c: usize| self.alpha_rate_volume(c) - shares[c];
         let Some(load) = self.load.filter(|l| l.masked.iter().any(|m| *m)) else {
-            return (0..n).map(|c| self.alpha_rate_volume(c)).collect();
+            return (0..n).map(rate).collect();
         };
         let weight = |c: usize| band_weight(self.alpha[c], self.alpha_old[c], self.alpha_old_old[c], self.volumes[c]);
-        let band = BandRate::of(&load.masked, |c| self.alpha_rate_volume(c), weight);
-        (0..n).map(|c| if load.masked[c] { band.share(weight(c)) } else { self.alpha_rate_volume(c) }).collect()
+        let band = BandRate::of(&load.masked, rate, weight);
+        (0..n).map(|c| if load.masked[c] { band.share(weight(c)) } else { rate(c) }).collect()
     }
 }
 

@@ -7,6 +7,7 @@ use spillage_model::cutter_head::mouth::balancing_speed;
 use spillage_model::fluid::conditions::fluid_volume_rate;
 use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::fluid::initial::prepare_fluid_state;
+use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::fluid::sampling::FluidSample;
 use spillage_model::fluid::settings::{LimiterUpdate, NumericsSection};
 use spillage_model::fluid::state::FluidState;
@@ -129,6 +130,7 @@ impl ReferenceFluid {
                     other += weighted;
                 }
             }
+            other -= particle_share_of_mesh_flux(fluid.alpha[face.cell], face.mesh_flux);
         }
         let alpha = [fluid.alpha.as_slice(), fluid.alpha_old.as_slice(), fluid.alpha_old_old.as_slice()];
         let rate = fluid_volume_rate(alpha, &self.mesh.cell_volumes, ctx.time_coefficients, ctx.dt);

@@ -2,7 +2,7 @@
 //! particles; and the particles, mapping and loads the other coupling tests build on.
 
 use super::*;
-use crate::coupling::settings::Feedback;
+use crate::coupling::settings::{Feedback, InterfaceTreatment};
 use crate::mesh::cartesian::BoxSpec;
 use crate::mesh::cylindrical::RotorStatorSpec;
 use crate::particles::Particle;
@@ -27,7 +27,8 @@ pub(in crate::coupling) fn map(method: MappingMethod, mask: bool) -> ParticleMes
         method,
         distance_factor: 1.0,
         feedback: Feedback::default(),
-        interface_mask: mask,
+        interface: Default::default(),
+        interface_mask: Some(mask),
         drag: Default::default(),
         min_fluid_fraction: 0.05,
     };
@@ -126,7 +127,8 @@ fn diffusion_starts_from_the_sphere_width_and_refuses_a_narrower_kernel() {
         method: MappingMethod::Diffusion,
         distance_factor: 0.2,
         feedback: Feedback::default(),
-        interface_mask: true,
+        interface: Default::default(),
+        interface_mask: Some(true),
         drag: Default::default(),
         min_fluid_fraction: 0.05,
     };
@@ -182,4 +184,57 @@ fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
     }
     map(MappingMethod::Kernel, false).deposit(&mesh, &particles, &load, &mut cells);
     assert!(cells.masked.iter().all(|m| !m));
+}
+
+/// `interface = "span"`: the same particle's kernel reaches into the rotor's cells across the
+/// interface, conserves its volume to round-off, and is not masked unless the case asks; the
+/// key takes only the kernel method and names itself when refused.
+#[test]
+fn a_spanning_kernel_reaches_across_the_interface_unmasked() {
+    let spec = RotorStatorSpec {
+        r_inner: 0.05,
+        r_interface: 0.2,
+        r_outer: 0.4,
+        z_min: 0.0,
+        z_max: 0.02,
+        n_r_rotor: 15,
+        n_r_stator: 20,
+        n_theta_rotor: 126,
+        n_theta_stator: 137,
+        n_z: 1,
+        radial_grading_rotor: 1.0,
+        radial_grading_stator: 1.0,
+    };
+    let mesh = Mesh::rotor_stator(&spec).unwrap();
+    let particles = [particle(Vec3::new(0.205, 0.0, 0.01), 0.01)];
+    let load = load(&particles);
+    let mut section = CouplingSection {
+        method: MappingMethod::Kernel,
+        distance_factor: 1.0,
+        feedback: Feedback::default(),
+        interface: InterfaceTreatment::Span,
+        interface_mask: None,
+        drag: Default::default(),
+        min_fluid_fraction: 0.05,
+    };
+    assert!(section.validate().is_ok() && !section.masks_interface());
+    let mut cells = CellLoad::default();
+    ParticleMeshMap::new(&section).deposit(&mesh, &particles, &load, &mut cells);
+    let host_zone = mesh.cell_zone[mesh.locate(&particles[0].position).unwrap()];
+    let across: f64 = (0..mesh.n_cells()).filter(|&c| mesh.cell_zone[c] != host_zone).map(|c| cells.particle_fraction[c] * mesh.cell_volumes[c]).sum();
+    let volume: f64 = cells.particle_fraction.iter().zip(&mesh.cell_volumes).map(|(a, v)| a * v).sum();
+    // half a cell's width from the interface, a good part of the Gaussian lies beyond it
+    assert!(across > 0.2 * particles[0].volume(), "only {across:e} m³ across the interface");
+    assert!((volume / particles[0].volume() - 1.0).abs() < 1e-13, "volume {volume}");
+    assert!(cells.masked.iter().all(|m| !m), "a spanning kernel is not masked by default");
+    section.interface_mask = Some(true);
+    assert!(section.masks_interface());
+    section.interface_mask = None;
+    section.interface = InterfaceTreatment::Truncate;
+    assert!(section.masks_interface(), "the truncated kernel is masked by default, as in the thesis");
+    section.interface = InterfaceTreatment::Span;
+    section.method = MappingMethod::Diffusion;
+    section.distance_factor = 3.0;
+    let error = section.validate().unwrap_err();
+    assert!(error.key == "coupling.interface" && error.value == "\"span\"" && error.allowed.contains("kernel"), "{error:?}");
 }
