@@ -474,7 +474,7 @@ fn particle_lines(case: &Case) -> Vec<String> {
                     (InterfaceTreatment::Span, false) => "; kernels reach across a sliding interface (interface = \"span\")",
                     (InterfaceTreatment::Span, true) => "; kernels reach across a sliding interface (interface = \"span\"), ∂α_c/∂t masked next to it",
                     (InterfaceTreatment::Truncate, true) => "",
-                    (InterfaceTreatment::Truncate, false) => "; kernels stop at a sliding interface, ∂α_c/∂t not masked (interface_mask = false)",
+                    (InterfaceTreatment::Truncate, false) => "; ∂α_c/∂t not masked next to a sliding interface (interface_mask = false)",
                 },
                 represents(if case.wear.is_some() { "in the water and on the walls" } else { "in the water" })
             ),

@@ -65,7 +65,7 @@ pub fn run_check(case: &Case, check: &str, full: bool, plots: Option<&Path>, sol
         "coupling_hydrostatic" => hydrostatic(case, plots, solver),
         "coupling_held" => held::held_suspension(case, plots, solver),
         "coupling_budgets" => budgets::budgets(case, solver),
-        "coupling_interface" => interface_crossing(case, full, solver),
+        "coupling_interface" => interface_crossing(case, full, plots, solver),
         "coupling_turning_cells" => turning_cells::rock_at_rest(case, solver),
         other => bail!("unknown coupling check `{other}`; known: {}", CHECKS.join(", ")),
     }

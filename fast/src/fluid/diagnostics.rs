@@ -3,11 +3,10 @@
 //! kinetic energy and the sliding-interface flux imbalance. Sums and maxima are fixed-order
 //! reductions ([`Reducer`]), so they do not depend on the thread count.
 
-use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
-
 use super::assembly::{par_for, Out};
 use super::buffers::DiagnosticBuffers;
 use super::layout::Links;
+use super::pressure_corrector::cell_mesh_flux_share;
 use super::step_inputs::{Discretisation, StepSolution, TimeStep, VolumeFractions};
 use crate::linear::reduce::Reducer;
 
@@ -67,23 +66,22 @@ fn continuity_errors_and_courant(disc: &Discretisation, time: TimeStep, alpha: V
     let dt = time.dt;
     let (out_error, out_courant) = (Out::of(&mut work.continuity_error), Out::of(&mut work.courant));
     par_for(disc.n_cells(), |c| {
-        let mut error = alpha.rate_times_volume(time, c, vol[c]);
+        let mut error = alpha.rate_times_volume(time, c, vol[c]) - cell_mesh_flux_share(disc, a, c);
         let mut relative_flux_sum = 0.0;
         for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
             let e = adj.entry[k] as usize;
             let l = e >> 1;
             let alpha_f = links.interpolate(l, a[links.owner[l] as usize], a[links.neighbour[l] as usize]);
-            let outflow = alpha_f * link_flux[l] - particle_share_of_mesh_flux(alpha_f, links.mesh_flux[l]);
             if e & 1 == 1 {
-                error += outflow;
+                error += alpha_f * link_flux[l];
             } else {
-                error -= outflow;
+                error -= alpha_f * link_flux[l];
             }
             relative_flux_sum += (link_flux[l] - links.mesh_flux[l]).abs();
         }
         for &b in disc.boundary_faces_of(c) {
             let b = b as usize;
-            error += a[c] * boundary_flux[b] - particle_share_of_mesh_flux(a[c], bnd.mesh_flux[b]);
+            error += a[c] * boundary_flux[b];
             relative_flux_sum += (boundary_flux[b] - bnd.mesh_flux[b]).abs();
         }
         unsafe {

@@ -304,7 +304,8 @@ fn predicted_link_fluxes(inputs: &CorrectorInputs, pressure_gradient: &[Vec3], w
 }
 
 /// The pressure equation, gathered per cell: Σ α_f rAU_f |S|²/(d·S)(P_N − P_P) equals the
-/// divergence of α_f φ_pred plus the boundary terms and ∂α/∂t V. Without a fixed-pressure
+/// divergence of α_f φ_pred plus the boundary terms and ∂α/∂t V at the cell's place (the rate
+/// following the cell less its particles' share of the mesh fluxes). Without a fixed-pressure
 /// boundary, cell 0 is pinned (diagonal doubled).
 fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuffers) {
     let StepConstants { disc, time, alpha, particles, .. } = inputs.step;
@@ -321,7 +322,7 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     let rate = |c: usize| {
         let following = alpha.rate_times_volume(time, c, vol[c]);
         if particles.is_some() {
-            following - particle_mesh_flux_share(&disc, alpha.current, c)
+            following - cell_mesh_flux_share(&disc, alpha.current, c)
         } else {
             following
         }
@@ -357,7 +358,7 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
         // ∂α/∂t V at the cell's place; where the interface mask covers the cell, its share of
         // the band's net rate (T4.54; spillage_model::coupling::mask)
         if particles.is_some_and(|p| p.masked[c]) {
-            rhs -= band.share(weight(c));
+            rhs -= band.share(weight(c), rate(c));
         } else {
             rhs -= rate(c);
         }
@@ -373,8 +374,8 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
 
 /// Σ_f (α_f − 1) φ_mesh,f of cell `c`, the faces oriented out of it: the particles' share of
 /// the mesh fluxes that its ∂α/∂t V, which follows the turning cell, owes the continuity
-/// (spillage_model::fluid::moving_cells; the reference's `particle_mesh_flux_shares`).
-fn particle_mesh_flux_share(disc: &Discretisation, alpha: &[f64], c: usize) -> f64 {
+/// (spillage_model::fluid::moving_cells; the reference's `mesh_flux_shares_per_cell`).
+pub(super) fn cell_mesh_flux_share(disc: &Discretisation, alpha: &[f64], c: usize) -> f64 {
     let (links, adj, bnd) = (disc.links, disc.adjacency, disc.boundary);
     let mut share = 0.0;
     for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {

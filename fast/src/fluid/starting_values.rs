@@ -143,7 +143,8 @@ pub fn boundary_starting_values(
 
 /// Sets the suction mouth's speed of the step (`condition` carries it): the speed at which the
 /// water leaves through it what continuity leaves for it (spillage_model::cutter_head::mouth::
-/// balancing_speed), from the prescribed fluxes at unit speed, each weighted by α of its cell.
+/// balancing_speed), from the prescribed fluxes at unit speed, each weighted by α of its cell,
+/// less every boundary face's particle share of its mesh flux (spillage_model::fluid::moving_cells).
 pub fn balance_suction(
     boundary: &Boundary,
     conditions: &mut Conditions,

@@ -48,15 +48,17 @@ impl BandRate {
         out
     }
 
-    /// ∂α_c/∂t V of a masked cell with weight `weight` as the pressure equation takes it: its
-    /// share of the band's net rate (zero when no particle volume is in the band at any of the
-    /// three levels: then the net rate is zero too).
+    /// ∂α_c/∂t V of a masked cell with weight `weight` and rate `own` as the pressure equation
+    /// takes it: its share of the band's net rate; when no particle volume is in the band at any
+    /// of the three levels there is no footprint to redistribute, and the cell keeps its own
+    /// rate (zero but for the particles' share of a turning cell's mesh fluxes on faces it
+    /// shares with cells outside the band, crate::fluid::moving_cells).
     #[inline]
-    pub fn share(&self, weight: f64) -> f64 {
+    pub fn share(&self, weight: f64, own: f64) -> f64 {
         if self.weight > 0.0 {
             self.net * weight / self.weight
         } else {
-            0.0
+            own
         }
     }
 }
@@ -77,7 +79,7 @@ mod tests {
         let pressure = |now: &[f64; 6], old: &[f64; 6]| -> Vec<f64> {
             let r = rates(now, old);
             let band = BandRate::of(&masked, |c| r[c], |c| band_weight(now[c], old[c], old[c], volume[c]));
-            (0..6).map(|c| if masked[c] { band.share(band_weight(now[c], old[c], old[c], volume[c])) } else { r[c] }).collect()
+            (0..6).map(|c| if masked[c] { band.share(band_weight(now[c], old[c], old[c], volume[c]), r[c]) } else { r[c] }).collect()
         };
         // particle volume 0.2 moves from cell 2 to cell 4, both in the band: all masked
         let (old, now) = ([1.0, 1.0, 0.8, 1.0, 1.0, 1.0], [1.0, 1.0, 1.0, 1.0, 0.8, 1.0]);
@@ -91,7 +93,8 @@ mod tests {
         // the literal mask (zero in the band) leaves −0.2 unbalanced
         let literal: f64 = (0..6).filter(|&c| !masked[c]).map(|c| r[c]).sum();
         assert!((literal - 0.2).abs() < 1e-12, "{literal}");
-        // no particle volume in the band at any level: nothing to spread
-        assert_eq!(BandRate::of(&masked, |_| 0.0, |_| 0.0).share(0.0), 0.0);
+        // no particle volume in the band at any level: nothing to spread, a cell keeps its rate
+        assert_eq!(BandRate::of(&masked, |_| 0.0, |_| 0.0).share(0.0, 0.0), 0.0);
+        assert_eq!(BandRate::of(&masked, |_| 0.0, |_| 0.0).share(0.0, -0.3), -0.3);
     }
 }

@@ -147,7 +147,9 @@ impl SuctionWindow {
 /// continuity leaves for it, Σ_b α_P φ_b + Σ_c V_c ∂α_c/∂t = 0 over the prescribed-flux faces
 /// and the cells (fluid-dem-model.md §2.2: the pressure equation's right-hand side must sum to
 /// zero when no boundary fixes the pressure). `unit` is Σ α_P φ_b of the mouth's faces at unit
-/// speed, `other` that of every other face, `volume_rate` the cells' Σ V ∂α/∂t.
+/// speed, `other` that of every other face less the particles' share of the boundary faces'
+/// mesh fluxes (crate::fluid::moving_cells; the interior faces' shares cancel in the sum),
+/// `volume_rate` the cells' Σ V ∂α/∂t.
 ///
 /// Without particles this is the nominal speed (the floor's Q_m in, Q_m out) to round-off. With
 /// them the mouth also takes the volume particles free or fill: their α lowers the water's

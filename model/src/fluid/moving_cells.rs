@@ -10,7 +10,7 @@
 //! pushed the water aside as if it swept against them, and a rock riding with the rotor
 //! displaced no water at all (cases/verification/coupling/rock_at_rest_in_turning_cells.toml:
 //! the rock at rest sees the water move at 4.7e-2 of the sweeping speed without the share,
-//! 3.3e-3 with it).
+//! 3.4e-3 with it).
 
 /// The particles' share (α_f − 1) φ_mesh,f [m³/s] of a face's mesh flux that the face's
 /// outflow α_f φ_f leaves out of the continuity of the cell it leaves: cell P's equation reads

@@ -1,6 +1,5 @@
 //! Per-step diagnostics of the fluid solution (spec U-31, T4.44).
 
-use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::mesh::Vec3;
 
 use super::geometry::{Geometry, LinkOrigin};
@@ -10,16 +9,15 @@ use super::momentum::StepInputs;
 /// fluxes' sum over a cell, zero for a rigid rotation, left out: `moving_cells`).
 pub fn continuity_errors(inputs: &StepInputs, link_flux: &[f64], boundary_flux: &[f64]) -> Vec<f64> {
     let geo = inputs.geo;
-    let mut e: Vec<f64> = (0..geo.n_cells()).map(|c| inputs.alpha_rate_volume(c)).collect();
+    let shares = inputs.mesh_flux_shares_per_cell();
+    let mut e: Vec<f64> = (0..geo.n_cells()).map(|c| inputs.alpha_rate_volume(c) - shares[c]).collect();
     for (l, link) in geo.links.iter().enumerate() {
         let alpha_f = link.interpolate(inputs.alpha[link.owner], inputs.alpha[link.neighbour]);
-        let outflow = alpha_f * link_flux[l] - particle_share_of_mesh_flux(alpha_f, link.mesh_flux);
-        e[link.owner] += outflow;
-        e[link.neighbour] -= outflow;
+        e[link.owner] += alpha_f * link_flux[l];
+        e[link.neighbour] -= alpha_f * link_flux[l];
     }
     for (b, face) in geo.boundary.iter().enumerate() {
-        let alpha = inputs.alpha[face.cell];
-        e[face.cell] += alpha * boundary_flux[b] - particle_share_of_mesh_flux(alpha, face.mesh_flux);
+        e[face.cell] += inputs.alpha[face.cell] * boundary_flux[b];
     }
     e
 }

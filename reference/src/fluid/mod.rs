@@ -48,7 +48,9 @@
 //!       (k = overlap centre − interpolation point, ∇u of the momentum assembly; issue 12);
 //!       pressure equation
 //!       Σ α_f rAU_f |S|²/(d·S) (P_N − P_P) = Σ α_f [HbyA_f·S − rAU_f (∇P)_f·T] + Σ_b α_P φ_b
-//!       + ∂α/∂t V, with (∇P)_f·T the explicit non-orthogonal part from the previous pressure,
+//!       + ∂α/∂t V − Σ_f (α_f − 1) φ_mesh,f (the rate at the cell's place: α's time levels follow
+//!       turning cells, spillage_model::fluid::moving_cells), with (∇P)_f·T the explicit
+//!       non-orthogonal part from the previous pressure,
 //!       repeated `non_orthogonal_correctors` extra times. Prescribed-flux boundaries (walls,
 //!       velocity inlets, symmetry) contribute their flux; their boundary pressure is
 //!       P_b = P_P + d_n (HbyA_P·S − φ_b)/(rAU_P|S|) (spec §8.8 T4.42, A⁻¹H extrapolated), or
@@ -85,7 +87,7 @@
 //!    faces), α levels shifted, continuity errors accumulated.
 //!
 //! # Diagnostics (per step, `StepReport::values`)
-//! Continuity error per cell e_c = ∂α/∂t V + Σ α_f φ_f [m³/s]; local = Δt Σ|e_c|, global =
+//! Continuity error per cell e_c = ∂α/∂t V + Σ α_f φ_f − Σ (α_f − 1) φ_mesh,f [m³/s]; local = Δt Σ|e_c|, global =
 //! Δt Σ e_c, cumulative = Σ_steps global [m³] (spec U-31); Courant number
 //! max_c ½Δt Σ_f |φ_f − φ_mesh,f| / V (T4.44); kinetic energy ½ Σ α|u|²V [m⁵/s²]; outer
 //! iterations; last initial pressure residual; interface flux imbalance

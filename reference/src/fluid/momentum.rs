@@ -94,7 +94,7 @@ impl StepInputs<'_> {
     /// Σ_f (α_f − 1) φ_mesh,f per cell, the faces oriented out of it: the particles' share of
     /// the mesh fluxes that a turning cell's ∂α/∂t V, which follows the cell, owes its
     /// continuity (spillage_model::fluid::moving_cells). Zero on a mesh that stands still.
-    pub fn particle_mesh_flux_shares(&self) -> Vec<f64> {
+    pub fn mesh_flux_shares_per_cell(&self) -> Vec<f64> {
         let mut share = vec![0.0; self.volumes.len()];
         if self.rotor.is_none() {
             return share;
@@ -111,20 +111,20 @@ impl StepInputs<'_> {
     }
 
     /// The rate the pressure equation takes per cell: ∂α/∂t · V following the cell less the
-    /// particles' share of its mesh fluxes ([`Self::particle_mesh_flux_shares`]), which is the
+    /// particles' share of its mesh fluxes ([`Self::mesh_flux_shares_per_cell`]), which is the
     /// rate at the cell's place; in the cells the interface mask covers, their share of the
     /// band's net rate (T4.54, §6.7; spillage_model::coupling::mask: the redistribution inside
     /// the band is left out, the volume entering or leaving it is not).
     pub fn alpha_rates_volume_in_pressure(&self) -> Vec<f64> {
         let n = self.volumes.len();
-        let shares = self.particle_mesh_flux_shares();
+        let shares = self.mesh_flux_shares_per_cell();
         let rate = |c: usize| self.alpha_rate_volume(c) - shares[c];
         let Some(load) = self.load.filter(|l| l.masked.iter().any(|m| *m)) else {
             return (0..n).map(rate).collect();
         };
         let weight = |c: usize| band_weight(self.alpha[c], self.alpha_old[c], self.alpha_old_old[c], self.volumes[c]);
         let band = BandRate::of(&load.masked, rate, weight);
-        (0..n).map(|c| if load.masked[c] { band.share(weight(c)) } else { rate(c) }).collect()
+        (0..n).map(|c| if load.masked[c] { band.share(weight(c), rate(c)) } else { rate(c) }).collect()
     }
 }
 

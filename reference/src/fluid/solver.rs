@@ -117,7 +117,8 @@ impl ReferenceFluid {
     /// Sets the suction mouth's speed of the step (`suction` is its condition): the speed at
     /// which the water leaves through it what continuity leaves for it
     /// (spillage_model::cutter_head::mouth::balancing_speed): the prescribed fluxes at unit
-    /// speed, each weighted by α of its cell, and the cells' Σ V ∂α/∂t.
+    /// speed, each weighted by α of its cell, less every boundary face's particle share of its
+    /// mesh flux (spillage_model::fluid::moving_cells), and the cells' Σ V ∂α/∂t.
     fn balance_suction(&mut self, suction: usize, geo: &Geometry, fluid: &FluidState, ctx: &StepContext) -> Result<(), SolverError> {
         self.conditions.set_suction_speed(1.0);
         let (mut unit, mut other) = (0.0, 0.0);

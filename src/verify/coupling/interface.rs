@@ -27,7 +27,9 @@ fn without_interface(case: &Case) -> Result<Case> {
     Ok(plain)
 }
 
-pub(super) fn interface_crossing(base: &Case, full: bool, solver: FluidSolver) -> Result<Vec<CheckRow>> {
+/// With `plots`, draws `<case>_velocity_difference.png`: each run's |u − u_no interface| / u_t
+/// against time (log scale) with Table 6.4's masked value.
+pub(super) fn interface_crossing(base: &Case, full: bool, plots: Option<&Path>, solver: FluidSolver) -> Result<Vec<CheckRow>> {
     let name = base.case.name.as_str();
     // `--full` refines r and θ by `full_refinement`; a case without it (the one already at the
     // thesis' d_p/Δx = 5, interface_crossing_fine.toml) has no finer level and runs as it is
@@ -50,22 +52,48 @@ pub(super) fn interface_crossing(base: &Case, full: bool, solver: FluidSolver) -
         coupling.interface_mask = mask;
         run(&c, solver)
     };
-    let unmasked = disturbance(&with(InterfaceTreatment::Truncate, Some(false))?);
+    let unmasked_run = with(InterfaceTreatment::Truncate, Some(false))?;
+    let unmasked = disturbance(&unmasked_run);
     let masked = with(InterfaceTreatment::Truncate, Some(true))?;
-    let mut rows = table_rows(base, name, "masked", solver, disturbance(&masked), &masked, volume)?;
+    let masked_disturbance = disturbance(&masked);
+    let mut rows = table_rows(base, name, "masked", solver, masked_disturbance, &masked, volume)?;
     // the mask's purpose (§6.7): the crossing disturbs the particle less than without it
     rows.push(CheckRow::at_least(
         name,
         "unmasked / masked velocity difference (the mask helps)",
         solver.label(),
-        unmasked / disturbance(&masked).max(1e-300),
+        unmasked / masked_disturbance.max(1e-300),
         number(base, "mask_gain")?,
     ));
     // the kernel reaching across the interface (`interface = "span"`, unmasked): no footprint
     // jumps, so there is nothing to mask; held to the same rows of Table 6.4
-    if case.coupling.as_ref().is_some_and(|c| c.method == MappingMethod::Kernel) {
+    let mut runs = vec![("truncated, unmasked", &unmasked_run), ("truncated, masked (the thesis)", &masked)];
+    let span = if case.coupling.as_ref().is_some_and(|c| c.method == MappingMethod::Kernel) {
         let span = with(InterfaceTreatment::Span, None)?;
         rows.extend(table_rows(base, name, "spanning kernel", solver, disturbance(&span), &span, volume)?);
+        Some(span)
+    } else {
+        None
+    };
+    if let Some(span) = &span {
+        runs.push(("spanning kernel (interface = \"span\")", span));
+    }
+    if plots.is_some() {
+        // log scale: a difference of exactly zero (before the runs part) is drawn at 1e-8
+        let difference = |trace: &Trace| -> Curve {
+            trace.time.iter().zip(trace.settling.iter().zip(&plain.settling)).map(|(t, (u, v))| (*t, ((u - v).abs() / terminal).max(1e-8))).collect()
+        };
+        let curves: Vec<(&str, Curve)> = runs.iter().map(|(label, trace)| (*label, difference(trace))).collect();
+        let table = number(base, "velocity_difference")?;
+        let ends = [plain.time.first().copied().unwrap_or(0.0), plain.time.last().copied().unwrap_or(0.0)];
+        let table_line: Curve = ends.iter().map(|t| (*t, table)).collect();
+        let mut series: Vec<Series> = curves.iter().map(|(label, points)| Series { label, points }).collect();
+        series.push(Series { label: "Table 6.4, masked run (thesis)", points: &table_line });
+        let mut styles = vec![Style::Line; curves.len()];
+        styles.push(Style::Exact);
+        let title = format!("{name}: a sphere settling through a sliding interface");
+        let plot = Plot { title: &title, x_label: "time [s]", y_label: "|u − u without the interface| / u_t", log_x: false, log_y: true, series };
+        draw(plots, &format!("{name}_velocity_difference"), &plot, &styles)?;
     }
     Ok(rows)
 }
