@@ -138,12 +138,10 @@ fn diffusion_starts_from_the_sphere_width_and_refuses_a_narrower_kernel() {
     assert!(section.validate().is_ok());
 }
 
-/// At a sliding interface (Table 4.2): a kernel stays on the particle's side and is
-/// normalised there, so the load is still conserved; the mask covers exactly the cells
-/// within 3γd_max of an interface face, and none with `interface_mask = false`.
-#[test]
-fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
-    let spec = RotorStatorSpec {
+/// P2's pseudo-2-D annulus (cases/coupling/interface_crossing.toml): interface at r = 0.2 m,
+/// 126 rotor and 137 stator cells around.
+fn p2_annulus() -> Mesh {
+    Mesh::rotor_stator(&RotorStatorSpec {
         r_inner: 0.05,
         r_interface: 0.2,
         r_outer: 0.4,
@@ -156,8 +154,16 @@ fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
         n_z: 1,
         radial_grading_rotor: 1.0,
         radial_grading_stator: 1.0,
-    };
-    let mesh = Mesh::rotor_stator(&spec).unwrap();
+    })
+    .unwrap()
+}
+
+/// At a sliding interface (Table 4.2): a kernel stays on the particle's side and is
+/// normalised there, so the load is still conserved; the mask covers exactly the cells
+/// within 3γd_max of an interface face, and none with `interface_mask = false`.
+#[test]
+fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
+    let mesh = p2_annulus();
     let particles = [particle(Vec3::new(0.195, 0.0, 0.01), 0.01)];
     let load = load(&particles);
     let m = map(MappingMethod::Kernel, true);
@@ -191,21 +197,7 @@ fn kernels_stop_at_the_interface_and_the_mask_covers_its_band() {
 /// key takes only the kernel method and names itself when refused.
 #[test]
 fn a_spanning_kernel_reaches_across_the_interface_unmasked() {
-    let spec = RotorStatorSpec {
-        r_inner: 0.05,
-        r_interface: 0.2,
-        r_outer: 0.4,
-        z_min: 0.0,
-        z_max: 0.02,
-        n_r_rotor: 15,
-        n_r_stator: 20,
-        n_theta_rotor: 126,
-        n_theta_stator: 137,
-        n_z: 1,
-        radial_grading_rotor: 1.0,
-        radial_grading_stator: 1.0,
-    };
-    let mesh = Mesh::rotor_stator(&spec).unwrap();
+    let mesh = p2_annulus();
     let particles = [particle(Vec3::new(0.205, 0.0, 0.01), 0.01)];
     let load = load(&particles);
     let mut section = CouplingSection {
