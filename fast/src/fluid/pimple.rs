@@ -303,6 +303,7 @@ impl FastFluid {
             cell_centres: &self.mesh.cell_centres,
             conditions: &self.conditions,
             solved: self.solved,
+            particles_in_turning_cells: self.rotor.is_some() && self.particles_active,
         };
         // field by field, so that the turbulence state stays free to be updated after the loop
         let alpha = VolumeFractions { current: &self.fluid.alpha, old: &self.fluid.alpha_old, old_old: &self.fluid.alpha_old_old };

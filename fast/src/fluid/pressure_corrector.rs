@@ -318,15 +318,8 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     // cell order, as the reference: the same bits on any thread count)
     let weight = |c: usize| band_weight(alpha.current[c], alpha.old[c], alpha.old_old[c], vol[c]);
     // ∂α/∂t V at the cell's place: following the cell, less the particles' share of its mesh
-    // fluxes (spillage_model::fluid::moving_cells; without particles α ≡ 1 and it is zero)
-    let rate = |c: usize| {
-        let following = alpha.rate_times_volume(time, c, vol[c]);
-        if particles.is_some() {
-            following - cell_mesh_flux_share(&disc, alpha.current, c)
-        } else {
-            following
-        }
-    };
+    // fluxes (spillage_model::fluid::moving_cells)
+    let rate = |c: usize| alpha.rate_times_volume(time, c, vol[c]) - cell_mesh_flux_share(&disc, alpha.current, c);
     let band = particles.map_or_else(BandRate::default, |p| BandRate::of(&p.masked, rate, weight));
     par_for(disc.n_cells(), |c| {
         let a = alpha.current;
@@ -374,8 +367,12 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
 
 /// Σ_f (α_f − 1) φ_mesh,f of cell `c`, the faces oriented out of it: the particles' share of
 /// the mesh fluxes that its ∂α/∂t V, which follows the turning cell, owes the continuity
-/// (spillage_model::fluid::moving_cells; the reference's `mesh_flux_shares_per_cell`).
+/// (spillage_model::fluid::moving_cells; the reference's `mesh_flux_shares_per_cell`). Zero,
+/// and not summed, unless particles meet turning cells.
 pub(super) fn cell_mesh_flux_share(disc: &Discretisation, alpha: &[f64], c: usize) -> f64 {
+    if !disc.particles_in_turning_cells {
+        return 0.0;
+    }
     let (links, adj, bnd) = (disc.links, disc.adjacency, disc.boundary);
     let mut share = 0.0;
     for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {

@@ -23,6 +23,10 @@ pub struct Discretisation<'a> {
     pub conditions: &'a Conditions,
     /// Velocity components solved (false along the normal of empty patches: 2-D meshes).
     pub solved: [bool; 3],
+    /// Whether particles meet turning cells this step (a rotor and a particle load): only then
+    /// does a cell's ∂α/∂t V owe the particles' share of its mesh fluxes
+    /// (spillage_model::fluid::moving_cells), which is zero otherwise.
+    pub particles_in_turning_cells: bool,
 }
 
 impl<'a> Discretisation<'a> {

@@ -93,10 +93,11 @@ impl StepInputs<'_> {
 
     /// Σ_f (α_f − 1) φ_mesh,f per cell, the faces oriented out of it: the particles' share of
     /// the mesh fluxes that a turning cell's ∂α/∂t V, which follows the cell, owes its
-    /// continuity (spillage_model::fluid::moving_cells). Zero on a mesh that stands still.
+    /// continuity (spillage_model::fluid::moving_cells). Zero on a mesh that stands still or
+    /// without a particle load (α_c ≡ 1).
     pub fn mesh_flux_shares_per_cell(&self) -> Vec<f64> {
         let mut share = vec![0.0; self.volumes.len()];
-        if self.rotor.is_none() {
+        if self.rotor.is_none() || self.load.is_none() {
             return share;
         }
         for link in &self.geo.links {
