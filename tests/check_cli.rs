@@ -7,6 +7,13 @@ use std::path::Path;
 mod common;
 use common::{scratch, spillage};
 
+/// `text` with the first `from` replaced by `to`; the edit must find `from`.
+fn edited_once(text: &str, from: &str, to: &str) -> String {
+    let edited = text.replacen(from, to, 1);
+    assert_ne!(edited, text, "the edit found {from:?}");
+    edited
+}
+
 /// `spillage check` says whether the water lowers the restitution: wet by default in a fluid,
 /// not with `[particles] restitution = "dry"` (the Coriolis tester).
 #[test]
@@ -29,8 +36,7 @@ fn check_names_the_fluid_forces_on_the_particles() {
     let text = std::fs::read_to_string(&source).unwrap();
     let dir = scratch("fluid-forces");
     let thesis = dir.join("coriolis_drag_and_buoyancy.toml");
-    let edited = text.replacen("[particles]\n", "[particles]\nfluid_forces = \"drag_and_buoyancy\"\n", 1);
-    assert_ne!(edited, text, "the edit found [particles]");
+    let edited = edited_once(&text, "[particles]\n", "[particles]\nfluid_forces = \"drag_and_buoyancy\"\n");
     std::fs::write(&thesis, edited).unwrap();
     for (case, needle) in [(source, "forces       drag, added mass (C_AM 0.5)"), (thesis, "forces       drag and buoyancy only")] {
         let out = spillage(&["check", case.to_str().unwrap()]);
@@ -49,8 +55,7 @@ fn check_warns_of_a_wear_profile_that_misses_the_walls() {
     let text = std::fs::read_to_string(&source).unwrap();
     let dir = scratch("profile-line");
     let missing = dir.join("coriolis_profile_off_the_coupon.toml");
-    let edited = text.replacen("from = [0.103, -0.005, 0.0]\nto = [0.147, -0.005, 0.0]\n", "from = [0.103, 0.005, 0.0]\nto = [0.147, 0.005, 0.0]\n", 1);
-    assert_ne!(edited, text, "the edit found the profile line");
+    let edited = edited_once(&text, "from = [0.103, -0.005, 0.0]\nto = [0.147, -0.005, 0.0]\n", "from = [0.103, 0.005, 0.0]\nto = [0.147, 0.005, 0.0]\n");
     std::fs::write(&missing, edited).unwrap();
     for (case, covered, warned) in [(&source, "44 over the eroding walls", false), (&missing, "0 over the eroding walls", true)] {
         let out = spillage(&["check", case.to_str().unwrap()]);
@@ -62,8 +67,7 @@ fn check_warns_of_a_wear_profile_that_misses_the_walls() {
     // a run started without `spillage check` warns at its start and says so at its end
     let one_step = dir.join("coriolis_profile_off_the_coupon_one_step.toml");
     let text = std::fs::read_to_string(&missing).unwrap();
-    let edited = text.replacen("end_time = 0.025\n", "end_time = 2.5e-5\n", 1);
-    assert_ne!(edited, text, "the edit found end_time");
+    let edited = edited_once(&text, "end_time = 0.025\n", "end_time = 2.5e-5\n");
     std::fs::write(&one_step, edited).unwrap();
     let out = spillage(&["run", one_step.to_str().unwrap(), "--out", dir.join("run").to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -207,8 +211,7 @@ fn check_says_when_kernels_reach_across_the_interface() {
     let text = std::fs::read_to_string(&source).unwrap();
     let dir = scratch("interface-span");
     let span = dir.join("interface_crossing_span.toml");
-    let edited = text.replacen("distance_factor = 1.0\n", "distance_factor = 1.0\ninterface = \"span\"\n", 1);
-    assert_ne!(edited, text, "the edit found distance_factor");
+    let edited = edited_once(&text, "distance_factor = 1.0\n", "distance_factor = 1.0\ninterface = \"span\"\n");
     std::fs::write(&span, &edited).unwrap();
     for (case, spans) in [(source.clone(), false), (span.clone(), true)] {
         let out = spillage(&["check", case.to_str().unwrap()]);

@@ -102,30 +102,21 @@ pub(super) fn interface_crossing(base: &Case, full: bool, plots: Option<&Path>, 
 /// the largest global, cumulative and single-cell continuity errors in units of `volume`.
 fn table_rows(base: &Case, name: &str, run: &str, solver: FluidSolver, velocity: f64, trace: &Trace, volume: f64) -> Result<Vec<CheckRow>> {
     let largest = |errors: &[f64]| errors.iter().fold(0.0f64, |m, e| m.max(e.abs())) / volume;
-    Ok(vec![
-        CheckRow::at_most(name, format!("{run}: relative velocity difference to no interface"), solver.label(), velocity, number(base, "velocity_difference")?),
-        CheckRow::at_most(
-            name,
-            format!("{run}: largest |global continuity error| / V_p"),
-            solver.label(),
-            largest(&trace.continuity_global),
-            number(base, "continuity_global")?,
-        ),
-        CheckRow::at_most(
-            name,
-            format!("{run}: largest |cumulative continuity error| / V_p"),
-            solver.label(),
-            largest(&trace.continuity_cumulative),
-            number(base, "continuity_cumulative")?,
-        ),
-        CheckRow::at_most(
-            name,
-            format!("{run}: largest single-cell continuity error / V_p"),
-            solver.label(),
-            largest(&trace.continuity_cell_max),
-            number(base, "continuity_local")?,
-        ),
-    ])
+    let mut rows = vec![CheckRow::at_most(
+        name,
+        format!("{run}: relative velocity difference to no interface"),
+        solver.label(),
+        velocity,
+        number(base, "velocity_difference")?,
+    )];
+    for (what, errors, bound) in [
+        ("largest |global continuity error| / V_p", &trace.continuity_global, "continuity_global"),
+        ("largest |cumulative continuity error| / V_p", &trace.continuity_cumulative, "continuity_cumulative"),
+        ("largest single-cell continuity error / V_p", &trace.continuity_cell_max, "continuity_local"),
+    ] {
+        rows.push(CheckRow::at_most(name, format!("{run}: {what}"), solver.label(), largest(errors), number(base, bound)?));
+    }
+    Ok(rows)
 }
 
 /// `case` with its rotor/stator mesh refined `factor` times in r and θ.
