@@ -207,6 +207,23 @@ pub fn inspect(bytes: &[u8], path: &Path) -> Result<Report, spillage_model::case
     let mut lines = Vec::new();
     let placement = spillage_model::particles::placement::check_initial_placement(&case, path.parent().unwrap_or(Path::new("")))
         .map_err(|field| Case::located(&String::from_utf8_lossy(bytes), path, field))?;
+    // a following fluid mesh's patch and wall must meet as the solvers need (the run checks it
+    // too); on meshes and plane walls small enough to build here in a moment (a mutated case may
+    // ask for billions of cells)
+    let following = case.wear.as_ref().and_then(|w| w.fluid_mesh.as_ref()).filter(|f| {
+        let wall = case.walls.iter().find(|w| w.name == f.wall);
+        let small_wall = matches!(wall.map(|w| &w.shape), Some(spillage_model::walls::settings::ShapeSection::Plane { divisions, .. }) if (divisions[0] as u64) * (divisions[1] as u64) <= 200_000);
+        small_wall && case.mesh.as_ref().is_some_and(|m| m.cell_count() <= 200_000)
+    });
+    if let (Some(section), Some(Ok(mesh))) = (following, following.and_then(|_| spillage_model::mesh::for_case(&case))) {
+        spillage_model::wear::fluid_mesh::WallFollower::from_case(&case, &mesh, None).map_err(|why| {
+            Case::located(
+                &String::from_utf8_lossy(bytes),
+                path,
+                spillage_model::case::error::FieldError::new("wear.fluid_mesh.wall", format!("{:?}", section.wall), why),
+            )
+        })?;
+    }
     let mut push = |line: String| lines.push(line);
 
     push(format!("case         {} ({})", case.case.name, path.display()));
@@ -305,6 +322,10 @@ fn wear_lines(case: &Case) -> Vec<String> {
             1.0 / s.damping
         )),
         None => lines.push("smoothing    none: each impact recedes at once from the three corners of its triangle".into()),
+    }
+    if let Some(f) = &wear.fluid_mesh {
+        let depth = f.depth.map_or("across the whole mesh".to_string(), |d| format!("over {d} m"));
+        lines.push(format!("fluid mesh   follows wall {} on patch {} (bending {depth}; wear-model.md §7.4): the water flows into the crater", f.wall, f.patch));
     }
     if wear.sliding {
         lines

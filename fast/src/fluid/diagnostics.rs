@@ -66,7 +66,7 @@ fn continuity_errors_and_courant(disc: &Discretisation, time: TimeStep, alpha: V
     let dt = time.dt;
     let (out_error, out_courant) = (Out::of(&mut work.continuity_error), Out::of(&mut work.courant));
     par_for(disc.n_cells(), |c| {
-        let mut error = alpha.rate_times_volume(time, c, vol[c]) - cell_mesh_flux_share(disc, a, c);
+        let mut error = disc.alpha_rate_volume(alpha, time, c) - cell_mesh_flux_share(disc, a, c);
         let mut relative_flux_sum = 0.0;
         for k in adj.row_start[c] as usize..adj.row_start[c + 1] as usize {
             let e = adj.entry[k] as usize;

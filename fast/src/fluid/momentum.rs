@@ -9,6 +9,7 @@ use spillage_model::fluid::frozen_rotor::FrozenRotor;
 use spillage_model::mesh::Vec3;
 use spillage_model::solver::SolverError;
 use spillage_model::turbulence::Viscosity;
+use spillage_model::wear::fluid_mesh::receding_slip_velocity;
 
 use super::assembly::{convection_weight, directional, explicit_stress, interpolate_tensor, par_for, vec_of, Out};
 use super::buffers::{MomentumLinkCoefficients, MomentumSystem};
@@ -19,7 +20,7 @@ use crate::linear::{par_update, Tolerance};
 
 /// Velocity of every boundary face from the latest cell `velocity`: the fixed velocity where the
 /// condition fixes one, the tangential part of the cell velocity on symmetry faces, the cell
-/// velocity elsewhere (zero gradient).
+/// velocity elsewhere (zero gradient); a receding symmetry face's normal speed on a deforming mesh.
 pub fn boundary_velocities(disc: &Discretisation, fixed_velocity: &[Vec3], velocity: &[Vec<f64>; 3], boundary_velocity: &mut [Vec3]) {
     let bnd = disc.boundary;
     for b in 0..bnd.len() {
@@ -27,8 +28,12 @@ pub fn boundary_velocities(disc: &Discretisation, fixed_velocity: &[Vec3], veloc
         boundary_velocity[b] = if !fixed_velocity[b].x.is_nan() {
             fixed_velocity[b]
         } else if let Condition::Symmetry = disc.condition(b) {
-            let normal = bnd.area[b].normalize();
-            cell_velocity - normal * cell_velocity.dot(&normal)
+            if disc.deforming {
+                receding_slip_velocity(cell_velocity, bnd.area[b], bnd.mesh_flux[b])
+            } else {
+                let normal = bnd.area[b].normalize();
+                cell_velocity - normal * cell_velocity.dot(&normal)
+            }
         } else {
             cell_velocity
         };
@@ -118,7 +123,9 @@ pub fn assemble(inputs: &MomentumInputs, links_out: &mut MomentumLinkCoefficient
     par_for(disc.n_cells(), |c| {
         let v = vol[c];
         let mut diag = c0 * alpha.current[c] * v / dt;
-        let mut source = -(vec_of(velocity_old, c) * (c1 * alpha.old[c]) + vec_of(velocity_old_old, c) * (c2 * alpha.old_old[c])) * (v / dt);
+        // (a deforming mesh steps Euler, c₂ = 0, with Vⁿ on the old level)
+        let mut source =
+            -(vec_of(velocity_old, c) * (c1 * alpha.old[c]) + vec_of(velocity_old_old, c) * (c2 * alpha.old_old[c])) * (disc.cell_volumes_old[c] / dt);
         source += body_force * v;
         if let Some(frame) = rotating_frame {
             source += frame.fictitious_acceleration(vec_of(velocity, c), cell_centres[c]) * (alpha.current[c] * v);

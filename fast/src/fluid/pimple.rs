@@ -23,6 +23,8 @@ use spillage_model::mesh::{Mesh, Overlap, PatchKind, Vec3};
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{FluidPhase, FluidStepOutcome, RotorPose, StepContext};
+use spillage_model::walls::state::WallState;
+use spillage_model::wear::fluid_mesh::MeshFollowing;
 
 use super::buffers::StepBuffers;
 use super::diagnostics::step_diagnostics;
@@ -95,6 +97,8 @@ pub struct FastFluid {
     orthogonal: Option<bool>,
     /// The k–ε model (`[turbulence] model = "realizable-k-epsilon"`), `None` for laminar flow.
     turbulence: Option<FastTurbulence>,
+    /// The receding wall the mesh follows (`[wear.fluid_mesh]`), if any.
+    follower: Option<MeshFollowing>,
 }
 
 fn unsupported(msg: impl Into<String>) -> SolverError {
@@ -123,6 +127,9 @@ impl FastFluid {
         let n = mesh.n_cells();
         prepare_fluid_state(state, case, &mesh).map_err(unsupported)?;
         let mut mesh = mesh;
+        // a mesh that follows a receding wall, where the state left it (spillage_model::wear::fluid_mesh)
+        let fluid_state = state.fluid.as_mut().expect("prepared above");
+        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state).map_err(unsupported)?;
         let mut rotor = rotor;
         if let Some(r) = rotor.as_mut() {
             // the rotor where the state left it, before the link geometry is built from the mesh
@@ -141,7 +148,9 @@ impl FastFluid {
         let boundary = Boundary::build(&mesh, &conditions, rotor.as_ref(), &in_rotor);
         let solved = solved_components(&mesh);
         let turbulence = case.turbulence.is_k_epsilon().then(|| FastTurbulence::new(case.turbulence.clone(), conditions.wall_patch_names(&mesh)));
-        let pressure_solver = if rotor.is_some() { PressureSolver::default() } else { PressureSolver::on_a_fixed_mesh() };
+        // a deforming mesh aggregates each step's hierarchy afresh, as a turning one: one
+        // aggregated on the geometry of the run's start would differ after a restart
+        let pressure_solver = if rotor.is_some() || follower.is_some() { PressureSolver::default() } else { PressureSolver::on_a_fixed_mesh() };
         let mut solver = FastFluid {
             mesh,
             fluid: FluidState::default(),
@@ -176,7 +185,11 @@ impl FastFluid {
             counts: SolveCounts::default(),
             orthogonal: None,
             turbulence,
+            follower,
         };
+        if solver.follower.is_some() {
+            solver.refresh_deformed_geometry();
+        }
         solver.rebuild_overlaps();
         solver.resize_buffers();
         Ok(solver)
@@ -226,7 +239,7 @@ impl FastFluid {
             self.rebuild_overlaps();
         }
         // link geometry changes on the first step and whenever the rotor or the overlaps move
-        let geometry_changed = self.orthogonal.is_none() || self.rotor.is_some() || self.frame.is_some();
+        let geometry_changed = self.orthogonal.is_none() || self.rotor.is_some() || self.frame.is_some() || self.follower.is_some();
         if geometry_changed {
             self.orthogonal = Some(self.links.all_orthogonal());
         }
@@ -253,6 +266,21 @@ impl FastFluid {
         Ok(())
     }
 
+    /// A mesh that follows a receding wall, moved: every link and boundary face takes the mesh's
+    /// moved geometry and the step's face mesh fluxes (swept volume · c₀/Δt).
+    fn refresh_deformed_geometry(&mut self) {
+        let Some(following) = &self.follower else { return };
+        let flux = following.face_mesh_flux();
+        for f in 0..self.mesh.n_internal_faces {
+            self.links.update_face(&self.mesh, f, None, &self.in_rotor);
+            self.links.mesh_flux[f] += flux[f];
+        }
+        self.boundary.update(&self.mesh, None, &self.in_rotor);
+        for (mesh_flux, &f) in self.boundary.mesh_flux.iter_mut().zip(&self.boundary.face) {
+            *mesh_flux += flux[f as usize];
+        }
+    }
+
     fn advance_timed(&mut self, report: &mut StepReport) -> Result<FluidStepOutcome, SolverError> {
         let clock = std::time::Instant::now();
         let result = self.advance_inner(report);
@@ -274,7 +302,7 @@ impl FastFluid {
         // 3. starting values
         let fluid = &self.fluid;
         let b = &mut self.buffers;
-        let moved = MovedCells { rotor_turns: self.rotor.is_some(), in_rotor: &self.in_rotor };
+        let moved = MovedCells { rotor_turns: self.rotor.is_some(), mesh_deforms: self.follower.is_some(), in_rotor: &self.in_rotor };
         time_levels_from_state(fluid, &mut b.velocity, &mut b.velocity_old, &mut b.velocity_old_old, &mut b.pressure);
         starting_link_fluxes(&self.links, moved, &fluid.flux, &b.velocity, &mut b.link_flux);
         let old = OldLevels {
@@ -300,10 +328,12 @@ impl FastFluid {
             adjacency: &self.adjacency,
             boundary: &self.boundary,
             cell_volumes: &self.mesh.cell_volumes,
+            cell_volumes_old: self.follower.as_ref().map_or(&self.mesh.cell_volumes, |f| f.volumes_old()),
+            deforming: self.follower.is_some(),
             cell_centres: &self.mesh.cell_centres,
             conditions: &self.conditions,
             solved: self.solved,
-            particles_in_turning_cells: self.rotor.is_some() && self.particles_active,
+            particles_in_turning_cells: (self.rotor.is_some() || self.follower.is_some()) && self.particles_active,
         };
         // field by field, so that the turbulence state stays free to be updated after the loop
         let alpha = VolumeFractions { current: &self.fluid.alpha, old: &self.fluid.alpha_old, old_old: &self.fluid.alpha_old_old };
@@ -472,23 +502,50 @@ impl FluidPhase for FastFluid {
         self.step_number = ctx.step;
         self.step_time_end = ctx.time_end();
         self.frozen_rotor = FrozenRotor::of_step(ctx);
-        // 1. rotor
+        // 1. rotor (a mesh that follows a receding wall was moved by `follow_walls`)
         self.turn_rotor(ctx.rotor.as_ref())?;
+        if let Some(following) = &self.follower {
+            following.check_moved().map_err(unsupported)?;
+        }
         std::mem::swap(&mut self.fluid, fluid);
         // Called from outside the thread pool, every parallel loop of the step would be handed
         // to a worker and waited for (a cross-thread wake-up per loop, hundreds per step);
         // running the whole step on a worker hands over once. Same arithmetic either way.
         let result = if rayon::current_thread_index().is_some() { self.advance_timed(report) } else { rayon::scope(|_| self.advance_timed(report)) };
         std::mem::swap(&mut self.fluid, fluid);
+        if let (Some(following), Ok(_)) = (self.follower.as_mut(), &result) {
+            following.finish_step(fluid);
+        }
         result
     }
 
     fn rewind(&mut self, dt_old: f64) {
         self.dt_old = dt_old;
+        if let Some(following) = self.follower.as_mut() {
+            following.rewind(&mut self.mesh);
+            self.refresh_deformed_geometry();
+        }
+    }
+
+    fn follow_walls(&mut self, ctx: &StepContext, walls: &WallState, fluid: &FluidState) -> Result<(), SolverError> {
+        if let Some(following) = self.follower.as_mut() {
+            following.move_for_step(&mut self.mesh, walls, &fluid.mesh_displacement, ctx.time_coefficients, ctx.dt).map_err(unsupported)?;
+            self.refresh_deformed_geometry();
+        }
+        Ok(())
     }
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
-        FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old }
+        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.face_mesh_flux());
+        FluidSample {
+            mesh: &self.mesh,
+            rotor: self.rotor.as_ref(),
+            fluid,
+            density: self.density,
+            kinematic_viscosity: self.nu,
+            dt_old: self.dt_old,
+            deforming_flux,
+        }
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every link.

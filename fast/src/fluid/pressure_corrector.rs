@@ -319,7 +319,7 @@ fn assemble_pressure_equation(inputs: &CorrectorInputs, work: &mut CorrectorBuff
     let weight = |c: usize| band_weight(alpha.current[c], alpha.old[c], alpha.old_old[c], vol[c]);
     // ∂α/∂t V at the cell's place: following the cell, less the particles' share of its mesh
     // fluxes (spillage_model::fluid::moving_cells)
-    let rate = |c: usize| alpha.rate_times_volume(time, c, vol[c]) - cell_mesh_flux_share(&disc, alpha.current, c);
+    let rate = |c: usize| disc.alpha_rate_volume(alpha, time, c) - cell_mesh_flux_share(&disc, alpha.current, c);
     let band = particles.map_or_else(BandRate::default, |p| BandRate::of(&p.masked, rate, weight));
     par_for(disc.n_cells(), |c| {
         let a = alpha.current;

@@ -20,17 +20,19 @@ use super::step_inputs::TimeStep;
 pub struct MovedCells<'a> {
     /// Whether the rotor zone turned this step.
     pub rotor_turns: bool,
+    /// Whether the whole mesh deformed this step (a mesh that follows a receding wall).
+    pub mesh_deforms: bool,
     /// Per cell: whether it belongs to the rotor zone.
     pub in_rotor: &'a [bool],
 }
 
 impl MovedCells<'_> {
     /// True for an internal face whose owner did not move: its stored fluxes belong to its
-    /// current geometry. Faces of the moving zone and overlap links (rebuilt every step) have
-    /// no such flux.
+    /// current geometry. Faces of the moving zone or of a deforming mesh, and overlap links
+    /// (rebuilt every step) have no such flux.
     #[inline]
     pub fn keeps_stored_flux(&self, links: &Links, l: usize) -> bool {
-        l < links.n_internal && !(self.rotor_turns && self.in_rotor[links.owner[l] as usize])
+        l < links.n_internal && !self.mesh_deforms && !(self.rotor_turns && self.in_rotor[links.owner[l] as usize])
     }
 }
 

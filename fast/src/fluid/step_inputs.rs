@@ -6,6 +6,7 @@ use spillage_model::fluid::conditions::{Condition, Conditions};
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::fluid::state::FluidState;
 use spillage_model::mesh::Vec3;
+use spillage_model::wear::fluid_mesh::deforming_alpha_rate_volume;
 
 use super::assembly::{scalar_gradient, vector_gradient};
 use super::layout::{Adjacency, Boundary, Links};
@@ -18,12 +19,18 @@ pub struct Discretisation<'a> {
     pub adjacency: &'a Adjacency,
     pub boundary: &'a Boundary,
     pub cell_volumes: &'a [f64],
+    /// Cell volumes at tⁿ: `cell_volumes` itself unless the mesh deforms this step.
+    pub cell_volumes_old: &'a [f64],
+    /// Whether the mesh deforms this step (`[wear.fluid_mesh]`, spillage_model::wear::fluid_mesh;
+    /// implicit Euler only).
+    pub deforming: bool,
     /// Cell centres (error messages name the worst cell's position).
     pub cell_centres: &'a [Vec3],
     pub conditions: &'a Conditions,
     /// Velocity components solved (false along the normal of empty patches: 2-D meshes).
     pub solved: [bool; 3],
-    /// Whether particles meet turning cells this step (a rotor and a particle load): only then
+    /// Whether particles meet moving cells this step (a rotor or a deforming mesh, and a
+    /// particle load): only then
     /// does a cell's ∂α/∂t V owe the particles' share of its mesh fluxes
     /// (spillage_model::fluid::moving_cells), which is zero otherwise.
     pub particles_in_turning_cells: bool,
@@ -45,6 +52,16 @@ impl<'a> Discretisation<'a> {
     pub fn boundary_faces_of(&self, c: usize) -> &'a [u32] {
         let bnd = self.boundary;
         &bnd.faces_of_cell[bnd.cell_start[c] as usize..bnd.cell_start[c + 1] as usize]
+    }
+
+    /// ∂α/∂t V of cell `c` (zero without particles); on a deforming mesh d(αV)/dt less the
+    /// mesh's own dV/dt ([`deforming_alpha_rate_volume`]).
+    #[inline]
+    pub fn alpha_rate_volume(&self, alpha: VolumeFractions, time: TimeStep, c: usize) -> f64 {
+        if self.deforming {
+            return deforming_alpha_rate_volume(time.coefficients, time.dt, alpha.current[c], alpha.old[c], self.cell_volumes[c], self.cell_volumes_old[c]);
+        }
+        alpha.rate_times_volume(time, c, self.cell_volumes[c])
     }
 
     /// Gauss gradient of cell scalar `phi` with boundary values `phi_b` ([`scalar_gradient`]).

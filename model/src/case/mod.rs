@@ -351,8 +351,62 @@ impl Case {
             };
             let names: Vec<&str> = self.walls.iter().map(|w| w.name.as_str()).chain(head_walls.iter().map(|n| n.as_str())).collect();
             wear.validate(&names)?;
+            if let Some(f) = &wear.fluid_mesh {
+                self.validate_fluid_mesh(f)?;
+            }
         }
         limits::check(self)
+    }
+}
+
+impl Case {
+    /// What a fluid mesh that follows a receding wall needs of the case
+    /// (crate::wear::fluid_mesh): a box mesh without periodic directions, the patch a
+    /// `symmetry` boundary (the water does not cross the wall it follows), implicit Euler (the
+    /// swept volumes balance its volume change) and laminar flow (the k–ε equations do not take
+    /// the cells' volume change). The geometry (the wall on the patch) is checked on the mesh.
+    fn validate_fluid_mesh(&self, f: &crate::wear::settings::FluidMeshSection) -> Result<(), FieldError> {
+        let key = "wear.fluid_mesh";
+        match (&self.fluid, &self.mesh) {
+            (Some(_), Some(MeshSection::Box { periodic, .. })) if periodic.is_empty() => {}
+            (Some(_), Some(MeshSection::Box { .. })) => {
+                return Err(FieldError::new(key, "(a [wear.fluid_mesh] section)", "a mesh without periodic directions: its points move with the wall"))
+            }
+            _ => return Err(FieldError::new(key, "(a [wear.fluid_mesh] section)", "a case with [fluid] on a `box` [mesh]: the fluid mesh follows the wall")),
+        }
+        match self.boundary.get(&f.patch) {
+            Some(crate::fluid::settings::BoundaryCondition::Symmetry) => {}
+            Some(_) => {
+                return Err(FieldError::new(
+                    "wear.fluid_mesh.patch",
+                    format!("{:?}", f.patch),
+                    format!("a `symmetry` patch: [boundary.{}] lets no water through the wall the mesh follows", f.patch),
+                ))
+            }
+            None => {
+                let patches: Vec<&str> = self.boundary.keys().map(String::as_str).collect();
+                return Err(FieldError::new(
+                    "wear.fluid_mesh.patch",
+                    format!("{:?}", f.patch),
+                    format!("a patch with a [boundary.*] section: {}", patches.join(", ")),
+                ));
+            }
+        }
+        if self.numerics.time_scheme != crate::fluid::settings::TimeScheme::Euler {
+            return Err(FieldError::new(
+                "numerics.time_scheme",
+                format!("\"{}\"", format!("{:?}", self.numerics.time_scheme).to_lowercase()),
+                "\"euler\" with [wear.fluid_mesh]: the swept volumes of a mesh that follows a wall balance the implicit Euler volume change",
+            ));
+        }
+        if self.turbulence.is_k_epsilon() {
+            return Err(FieldError::new(
+                "turbulence.model",
+                "\"realizable-k-epsilon\"",
+                "\"laminar\" with [wear.fluid_mesh]: the k–ε equations do not take the cells' volume change",
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -61,6 +61,9 @@ impl Fingerprint {
             (None, None) => "no mesh".into(),
         };
         parts.push(part("mesh", mesh_summary, &mesh_values(case)));
+        let following = case.wear.as_ref().and_then(|w| w.fluid_mesh.as_ref());
+        let motion = following.map_or("a mesh standing still".to_string(), |f| format!("a mesh following wall {:?} on patch {:?}", f.wall, f.patch));
+        parts.push(part("mesh motion", motion, &format!("{following:?}")));
         if let Some(p) = &case.particles {
             let names: Vec<&str> = p.materials.iter().map(|m| m.name.as_str()).collect();
             parts.push(part("particle materials", format!("materials {names:?}"), &format!("{:?}", p.materials)));

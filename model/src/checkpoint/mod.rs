@@ -1,6 +1,6 @@
 //! Checkpoints: a [`State`] written to disk and read back bit-for-bit.
 //!
-//! Layout: a text header line (`spillage-checkpoint 6 <case name>\n`, 6 the format version), the
+//! Layout: a text header line (`spillage-checkpoint 7 <case name>\n`, 7 the format version), the
 //! payload's length, the payload in postcard (the case's [`Fingerprint`] and the state; f64
 //! stored as their 8 bytes, so nothing is rounded), and an FNV-1a 64-bit checksum of the
 //! payload, so a truncated or damaged file is refused instead of silently resuming from garbage.
@@ -26,8 +26,9 @@ use crate::state::State;
 const MAGIC: &str = "spillage-checkpoint";
 /// 2: the one-step pipeline (rotor pose stored once, walls without their own angle, particle
 /// exits, the last Courant number); 3: wear (the wear state, wall revisions, impact points);
-/// 4: turbulence (k, ε, ν_t in the fluid state); 5: the case's fingerprint before the state.
-const VERSION: u32 = 6;
+/// 4: turbulence (k, ε, ν_t in the fluid state); 5: the case's fingerprint before the state;
+/// 7: the fluid mesh's displacement in the fluid state (a mesh that follows a receding wall).
+const VERSION: u32 = 7;
 /// A header longer than this is not one (a case name is a line of text; a damaged file
 /// otherwise shows its binary payload as the name).
 const MAX_HEADER: usize = 512;

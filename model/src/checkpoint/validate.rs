@@ -75,6 +75,9 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
         if !fluid.cumulative_continuity_error.is_finite() {
             return Err(format!("fluid cumulative_continuity_error is {}", fluid.cumulative_continuity_error));
         }
+        if let Some(i) = fluid.mesh_displacement.iter().position(|v| !v.is_finite()) {
+            return Err(format!("fluid mesh_displacement of point {i} is {}: expected a finite number", fluid.mesh_displacement[i]));
+        }
     }
     let n_walls = state.walls.as_ref().map_or(0, |w| w.walls.len());
     if let (Some(section), Some(p)) = (&case.particles, &state.particles) {

@@ -27,6 +27,9 @@ pub struct FluidSample<'a> {
     pub kinematic_viscosity: f64,
     /// The last fluid step (0 before the first: no local acceleration).
     pub dt_old: f64,
+    /// Per face, the mesh flux of a mesh that follows a receding wall (its motion over the
+    /// step being taken, as slow as the wear), empty on a mesh that does not deform.
+    pub deforming_flux: &'a [f64],
 }
 
 /// Per particle (in order), the fluid of the cell containing its centre, `None` outside the mesh.
@@ -57,6 +60,7 @@ pub fn material_acceleration(source: &FluidSample, cell: usize) -> Vec3 {
         let w = mesh.face_weight[face];
         let u_face = u(owner) * w + u(neighbour) * (1.0 - w);
         let mesh_flux = moving.map_or(0.0, |r| r.velocity_at(&mesh.face_centres[face]).dot(&mesh.face_areas[face]));
+        let mesh_flux = if source.deforming_flux.is_empty() { mesh_flux } else { mesh_flux + source.deforming_flux[face] };
         // flux relative to the mesh, out of `cell`
         let relative = fluid.flux[face] - mesh_flux;
         let out_flux = if owner == cell { relative } else { -relative };
@@ -85,7 +89,7 @@ mod tests {
             fluid.flux[f] = u.dot(&mesh.face_areas[f]);
         }
         for c in [0, 21, 63] {
-            let source = FluidSample { mesh: &mesh, rotor: None, fluid: &fluid, density: 1000.0, kinematic_viscosity: 1e-6, dt_old: 0.05 };
+            let source = FluidSample { mesh: &mesh, rotor: None, fluid: &fluid, density: 1000.0, kinematic_viscosity: 1e-6, dt_old: 0.05, deforming_flux: &[] };
             let a = material_acceleration(&source, c);
             // (0.1, 0, 0)/0.05 = (2, 0, 0); the convective part is round-off of O(|u|)
             assert!((a - Vec3::new(2.0, 0.0, 0.0)).norm() < 1e-12, "cell {c}: {a}");
@@ -121,7 +125,8 @@ mod tests {
         for f in 0..mesh.n_faces() {
             fluid.flux[f] = spin(&mesh.face_centres[f]).dot(&mesh.face_areas[f]);
         }
-        let source = FluidSample { mesh: &mesh, rotor: Some(&rotor), fluid: &fluid, density: 1000.0, kinematic_viscosity: 1e-6, dt_old: dt };
+        let source =
+            FluidSample { mesh: &mesh, rotor: Some(&rotor), fluid: &fluid, density: 1000.0, kinematic_viscosity: 1e-6, dt_old: dt, deforming_flux: &[] };
         let mut squared = [0.0f64; 2];
         let mut count = [0usize; 2];
         for c in 0..mesh.n_cells() {

@@ -29,6 +29,10 @@ pub struct FluidState {
     pub cumulative_continuity_error: f64,
     /// k, ε and ν_t of the turbulence model (`[turbulence] model = "realizable-k-epsilon"`).
     pub turbulence: Option<crate::turbulence::TurbulenceState>,
+    /// Per mesh point, its displacement along the followed wall's normal at tⁿ [m]
+    /// (`[wear.fluid_mesh]`, crate::wear::fluid_mesh); empty on a mesh that does not deform.
+    #[serde(default)]
+    pub mesh_displacement: Vec<f64>,
 }
 
 impl FluidState {
@@ -46,6 +50,7 @@ impl FluidState {
             alpha_old_old: vec![1.0; n_cells],
             cumulative_continuity_error: 0.0,
             turbulence: None,
+            mesh_displacement: Vec::new(),
         }
     }
 

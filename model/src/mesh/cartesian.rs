@@ -171,7 +171,7 @@ impl Mesh {
             patches,
             periodic,
             zones: vec![ZoneInput { name: "fluid".to_string(), cells: (0..n_cells).collect(), rotation: None }],
-            locator: Locator::Box { edges, cell_of_slot },
+            locator: Locator::Box { edges, cell_of_slot, deformed: false },
         };
         let n = spec.cells;
         assemble(input, |cell, local| {

@@ -41,6 +41,10 @@ pub enum Locator {
         edges: [Vec<f64>; 3],
         #[serde(default)]
         cell_of_slot: Vec<Option<usize>>,
+        /// The points have moved off the generator's grid ([`Mesh::move_points`]): the grid
+        /// slot is only where a walk to the containing cell starts.
+        #[serde(default)]
+        deformed: bool,
     },
     Cylindrical {
         blocks: Vec<CylinderBlock>,
@@ -76,7 +80,16 @@ impl Mesh {
     pub fn locate(&self, point: &Vec3) -> Option<usize> {
         match &self.locator {
             Locator::None => (0..self.n_cells()).find(|&c| self.contains(c, point)),
-            Locator::Box { edges, cell_of_slot } => {
+            Locator::Box { edges, cell_of_slot, deformed: true } => {
+                let clamped = |d: usize, x: f64| interval(&edges[d], x.clamp(edges[d][0], edges[d][edges[d].len() - 1]));
+                let (i, j, k) = (clamped(0, point.x)?, clamped(1, point.y)?, clamped(2, point.z)?);
+                let (nx, ny) = (edges[0].len() - 1, edges[1].len() - 1);
+                let slot = i + nx * (j + ny * k);
+                let start = if cell_of_slot.is_empty() { Some(slot) } else { cell_of_slot[slot] };
+                // a walk stopped at a warped face, or a slot of a solid, searches every cell
+                start.and_then(|cell| self.walk_to(cell, point)).or_else(|| (0..self.n_cells()).find(|&c| self.contains(c, point)))
+            }
+            Locator::Box { edges, cell_of_slot, .. } => {
                 let i = interval(&edges[0], point.x)?;
                 let j = interval(&edges[1], point.y)?;
                 let k = interval(&edges[2], point.z)?;

@@ -24,6 +24,7 @@ pub mod assemble;
 pub mod blocked;
 pub mod cartesian;
 pub mod cylindrical;
+pub mod deform;
 pub mod from_case;
 pub mod geometry;
 pub mod locate;
@@ -53,6 +54,9 @@ pub enum MeshError {
     ZoneNotRotating { name: String },
     #[error("inconsistent mesh topology: {0}")]
     Topology(String),
+    /// A point move ([`Mesh::move_points`]) that would fold the mesh.
+    #[error("{0}")]
+    Motion(String),
 }
 
 impl MeshError {

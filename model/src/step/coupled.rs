@@ -334,6 +334,10 @@ impl<F: FluidPhase, P: ParticlePhase> Coupled<F, P> {
         }
         if let Some(fluid) = self.fluid.as_mut() {
             fluid.place_rotor(ctx.rotor.as_ref())?;
+            // a mesh that follows a receding wall takes the wall's shape at tⁿ
+            if let (Some(walls), Some(state)) = (&self.state.walls, &self.state.fluid) {
+                fluid.follow_walls(&ctx, walls, state)?;
+            }
         }
 
         // 2–5. particles: batches, feed, sample, DEM sub-steps, exits

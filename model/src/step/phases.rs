@@ -113,6 +113,12 @@ pub trait FluidPhase {
     /// The driver rejected the step just taken and restored the state of its start, whose last
     /// step was `dt_old`: forget what was kept of the rejected step.
     fn rewind(&mut self, dt_old: f64);
+    /// Moves a mesh that follows a receding wall (`[wear.fluid_mesh]`, crate::wear::fluid_mesh)
+    /// for the step of `ctx`, before the particles sample it: from `fluid`'s displacement at tⁿ
+    /// onto the shape `walls` have at tⁿ. Phases whose mesh does not deform ignore it.
+    fn follow_walls(&mut self, _ctx: &StepContext, _walls: &crate::walls::state::WallState, _fluid: &FluidState) -> Result<(), SolverError> {
+        Ok(())
+    }
 }
 
 /// A DEM solver, advanced one outer step at a time by the driver.
@@ -176,6 +182,9 @@ impl<T: FluidPhase + ?Sized> FluidPhase for Box<T> {
     }
     fn courant_rate(&self, fluid: &FluidState) -> f64 {
         (**self).courant_rate(fluid)
+    }
+    fn follow_walls(&mut self, ctx: &StepContext, walls: &crate::walls::state::WallState, fluid: &FluidState) -> Result<(), SolverError> {
+        (**self).follow_walls(ctx, walls, fluid)
     }
     fn rewind(&mut self, dt_old: f64) {
         (**self).rewind(dt_old)

@@ -3,6 +3,7 @@
 //! the wear profile. The stepping (deposit, smooth, recede) is a [`crate::step::WearPhase`] of
 //! each solver.
 
+pub mod fluid_mesh;
 pub mod law_from_case;
 pub mod laws;
 pub mod profile;

@@ -107,6 +107,23 @@ pub struct WearSection {
     pub histogram_max_speed: f64,
     /// A line along which `wear_profile.csv` and its plot sample the wear depth.
     pub profile: Option<ProfileSection>,
+    /// `[wear.fluid_mesh]`: the fluid mesh follows a receding wall (wear-model.md §7.4), so
+    /// that the water flows into its crater ([`super::fluid_mesh`]).
+    pub fluid_mesh: Option<FluidMeshSection>,
+}
+
+/// `[wear.fluid_mesh]`: which fluid patch lies on which eroding plane wall, and how far into
+/// the water the mesh bends as the wall recedes ([`super::fluid_mesh::WallFollower`]).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidMeshSection {
+    /// The eroding `[[walls]]` entry (a plane, standing still).
+    pub wall: String,
+    /// The fluid boundary patch lying in the wall's plane.
+    pub patch: String,
+    /// Distance from the patch over which the points' share of the recession falls linearly
+    /// from 1 to 0 [m] (default: across the whole mesh).
+    pub depth: Option<f64>,
 }
 
 /// `[wear.smoothing]`: κ and λ of ∂w/∂t − ∇·(κ∇w) = −λw + λ Σ W_i δ (§7.2, sign-corrected).
@@ -397,6 +414,15 @@ impl WearSection {
             positive("wear.smoothing.damping", sm.damping, "1/s (spreading time 1/λ)")?;
         }
         positive("wear.histogram_max_speed", self.histogram_max_speed, "m/s")?;
+        if let Some(f) = &self.fluid_mesh {
+            if !self.walls.is_empty() && !self.walls.contains(&f.wall) || !wall_names.contains(&f.wall.as_str()) {
+                let eroding: Vec<&str> = if self.walls.is_empty() { wall_names.to_vec() } else { self.walls.iter().map(String::as_str).collect() };
+                return Err(FieldError::new("wear.fluid_mesh.wall", format!("{:?}", f.wall), format!("an eroding wall: {}", eroding.join(", "))));
+            }
+            if let Some(depth) = f.depth {
+                positive("wear.fluid_mesh.depth", depth, "m (how far into the water the mesh bends)")?;
+            }
+        }
         if let Some(p) = &self.profile {
             crate::case::error::finite_vector("wear.profile.from", p.from)?;
             crate::case::error::finite_vector("wear.profile.to", p.to)?;

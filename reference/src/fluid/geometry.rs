@@ -100,7 +100,11 @@ pub struct Geometry {
 impl Geometry {
     /// Builds the links of the mesh in its current position. `patch_condition[k]` is the index
     /// of the case condition of mesh patch k (`None` for empty and interface patches).
-    pub fn build(mesh: &Mesh, patch_condition: &[Option<usize>], rotor: Option<&RotorMotion>, interface_links: Vec<Link>) -> Geometry {
+    /// `deforming` is each face's mesh flux of a deforming mesh (swept volume per second,
+    /// spillage_model::mesh::deform), or empty.
+    pub fn build(mesh: &Mesh, patch_condition: &[Option<usize>], rotor: Option<&RotorMotion>, deforming: &[f64], interface_links: Vec<Link>) -> Geometry {
+        // (added only on a deforming mesh, so that a still one keeps its fluxes' bits, −0 included)
+        let with_deforming = |f: usize, flux: f64| if deforming.is_empty() { flux } else { flux + deforming[f] };
         let n_cells = mesh.cell_volumes.len();
         let in_rotor = cell_in_rotor(mesh, rotor);
         let moving_velocity = |cell: usize, x: &Vec3| -> Vec3 {
@@ -121,7 +125,7 @@ impl Geometry {
                 centre,
                 delta: mesh.face_delta[f],
                 weight: mesh.face_weight[f],
-                mesh_flux: moving_velocity(owner, &centre).dot(&area),
+                mesh_flux: with_deforming(f, moving_velocity(owner, &centre).dot(&area)),
                 origin: LinkOrigin::Face(f),
                 skew: Vec3::zeros(),
             });
@@ -154,7 +158,7 @@ impl Geometry {
                     area,
                     centre,
                     normal_distance: (centre - mesh.cell_centres[cell]).dot(&normal),
-                    mesh_flux: moving_velocity(cell, &centre).dot(&area),
+                    mesh_flux: with_deforming(f, moving_velocity(cell, &centre).dot(&area)),
                     patch: condition,
                     across: None,
                 });
@@ -221,7 +225,7 @@ mod tests {
         let spec = BoxSpec { grading: [2.0, 1.0, 1.0], ..BoxSpec::uniform(Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0), [4, 3, 2]) };
         let mesh = Mesh::cartesian_box(&spec).unwrap();
         let conditions: Vec<Option<usize>> = mesh.patches.iter().map(|_| Some(0)).collect();
-        let geo = Geometry::build(&mesh, &conditions, None, Vec::new());
+        let geo = Geometry::build(&mesh, &conditions, None, &[], Vec::new());
         assert!(!geo.boundary.is_empty());
         for face in &geo.boundary {
             let (across, ratio) = face.across.expect("every cell of a box with ≥ 2 cells per direction has one");

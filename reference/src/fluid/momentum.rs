@@ -38,6 +38,7 @@ use spillage_model::fluid::moving_cells::particle_share_of_mesh_flux;
 use spillage_model::fluid::settings::NumericsSection;
 use spillage_model::mesh::Vec3;
 use spillage_model::turbulence::Viscosity;
+use spillage_model::wear::fluid_mesh::{deforming_alpha_rate_volume, receding_slip_velocity};
 
 use super::boundary::{Condition, Conditions};
 use super::geometry::{Geometry, RotorMotion};
@@ -52,6 +53,10 @@ pub struct StepInputs<'a> {
     pub rotor: Option<&'a RotorMotion>,
     pub numerics: &'a NumericsSection,
     pub volumes: &'a [f64],
+    /// Cell volumes at tⁿ (equal to `volumes` unless the mesh deforms).
+    pub volumes_old: &'a [f64],
+    /// Whether the mesh deforms this step (`[wear.fluid_mesh]`; implicit Euler only).
+    pub deforming: bool,
     /// ν, or ν + ν_t of the turbulence model (faces: ν_t linearly interpolated; boundary
     /// faces: the wall-function ν_t,w on walls).
     pub viscosity: Viscosity<'a>,
@@ -85,9 +90,20 @@ pub struct StepInputs<'a> {
 }
 
 impl StepInputs<'_> {
-    /// ∂α/∂t · V per cell (zero without particles).
+    /// ∂α/∂t · V per cell (zero without particles); on a deforming mesh d(αV)/dt less the mesh's
+    /// own dV/dt ([`deforming_alpha_rate_volume`]).
     pub fn alpha_rate_volume(&self, cell: usize) -> f64 {
         let [c0, c1, c2] = self.time_coefficients;
+        if self.deforming {
+            return deforming_alpha_rate_volume(
+                self.time_coefficients,
+                self.dt,
+                self.alpha[cell],
+                self.alpha_old[cell],
+                self.volumes[cell],
+                self.volumes_old[cell],
+            );
+        }
         (c0 * self.alpha[cell] + c1 * self.alpha_old[cell] + c2 * self.alpha_old_old[cell]) * self.volumes[cell] / self.dt
     }
 
@@ -97,7 +113,7 @@ impl StepInputs<'_> {
     /// without a particle load (α_c ≡ 1).
     pub fn mesh_flux_shares_per_cell(&self) -> Vec<f64> {
         let mut share = vec![0.0; self.volumes.len()];
-        if self.rotor.is_none() || self.load.is_none() {
+        if (self.rotor.is_none() && !self.deforming) || self.load.is_none() {
             return share;
         }
         for link in &self.geo.links {
@@ -147,6 +163,7 @@ pub fn boundary_velocities(inputs: &StepInputs, u: &[Vec3]) -> Vec<Vec3> {
         .enumerate()
         .map(|(b, face)| match (&inputs.boundary_velocity[b], &inputs.conditions.conditions[face.patch]) {
             (Some(ub), _) => *ub,
+            (None, Condition::Symmetry) if inputs.deforming => receding_slip_velocity(u[face.cell], face.area, face.mesh_flux),
             (None, Condition::Symmetry) => {
                 let n = face.area.normalize();
                 u[face.cell] - n * u[face.cell].dot(&n)
@@ -175,11 +192,13 @@ pub fn assemble(
     let mut source = vec![Vec3::zeros(); n];
     let [c0, c1, c2] = inputs.time_coefficients;
 
-    // time derivative (BDF2 / Euler) and body force
+    // time derivative (BDF2 / Euler; a deforming mesh steps Euler, c₂ = 0, with Vⁿ on the old
+    // level) and body force
     for c in 0..n {
         let v = inputs.volumes[c];
         m.add_diagonal(c, c0 * inputs.alpha[c] * v / inputs.dt);
-        source[c] -= (inputs.u_old[c] * (c1 * inputs.alpha_old[c]) + inputs.u_old_old[c] * (c2 * inputs.alpha_old_old[c])) * (v / inputs.dt);
+        source[c] -=
+            (inputs.u_old[c] * (c1 * inputs.alpha_old[c]) + inputs.u_old_old[c] * (c2 * inputs.alpha_old_old[c])) * (inputs.volumes_old[c] / inputs.dt);
         source[c] += inputs.body_force * v;
         if let Some(frame) = &inputs.rotating_frame {
             source[c] += frame.fictitious_acceleration(u[c], inputs.cell_centres[c]) * (inputs.alpha[c] * v);

@@ -15,6 +15,8 @@ use spillage_model::mesh::{Mesh, Vec3};
 use spillage_model::solver::{SolverError, StepReport};
 use spillage_model::state::State;
 use spillage_model::step::{FluidPhase, FluidStepOutcome, RotorPose, StepContext};
+use spillage_model::walls::state::WallState;
+use spillage_model::wear::fluid_mesh::MeshFollowing;
 
 use super::boundary::{self, Conditions};
 use super::diagnostics;
@@ -45,12 +47,14 @@ pub struct ReferenceFluid {
     dt_old: f64,
     /// `[turbulence] model`: the effective viscosity and its transport equations.
     turbulence: Box<dyn TurbulenceModel>,
+    /// The receding wall the mesh follows (`[wear.fluid_mesh]`), if any.
+    follower: Option<MeshFollowing>,
 }
 
 impl ReferenceFluid {
     /// Sets up the solver for `case` on `mesh`. If `state.fluid` is `None` the fluid starts
     /// from the case's initial velocity, zero pressure and α_c = 1.
-    pub fn new(case: &Case, mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
+    pub fn new(case: &Case, mut mesh: Mesh, state: &mut State) -> Result<Self, SolverError> {
         let fluid = case.fluid.as_ref().ok_or_else(|| SolverError::Unsupported("the case has no [fluid] section".into()))?;
         let conditions = Conditions::from_case(case, &mesh, fluid.density)?;
         let numerics = case.numerics.clone();
@@ -62,6 +66,8 @@ impl ReferenceFluid {
 
         prepare_fluid_state(state, case, &mesh).map_err(SolverError::Unsupported)?;
         let turbulence = turbulence::from_case(&case.turbulence, conditions.wall_patch_names(&mesh));
+        let fluid_state = state.fluid.as_mut().expect("prepared above");
+        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state).map_err(SolverError::Unsupported)?;
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
@@ -74,6 +80,7 @@ impl ReferenceFluid {
             interface_axis,
             dt_old: state.dt,
             turbulence,
+            follower,
         };
         solver.place_rotor(RotorPose::from_case(case, state.rotor_angle).as_ref())?;
         Ok(solver)
@@ -111,7 +118,8 @@ impl ReferenceFluid {
             Some((axis, origin)) => interface_links(&self.mesh, axis, origin, self.rotor.as_ref()),
             None => Vec::new(),
         };
-        Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), links)
+        let deforming = self.follower.as_ref().map_or(&[][..], |f| f.face_mesh_flux());
+        Geometry::build(&self.mesh, &self.conditions.patch_condition, self.rotor.as_ref(), deforming, links)
     }
 
     /// Sets the suction mouth's speed of the step (`suction` is its condition): the speed at
@@ -151,10 +159,20 @@ impl ReferenceFluid {
         let dt = ctx.dt;
         let time_coefficients = ctx.time_coefficients;
         self.place_rotor(ctx.rotor.as_ref())?;
+        // a mesh that follows a receding wall was moved for this step ([`FluidPhase::follow_walls`])
+        let volumes_old = match &self.follower {
+            Some(following) => {
+                following.check_moved().map_err(SolverError::Unsupported)?;
+                Some(following.volumes_old().to_vec())
+            }
+            None => None,
+        };
         let geo = self.geometry();
         let fluid = &*fluid_state;
         let n = geo.n_cells();
         let volumes = self.mesh.cell_volumes.clone();
+        let deforming = volumes_old.is_some();
+        let volumes_old = volumes_old.unwrap_or_else(|| volumes.clone());
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
         if let Some(suction) = self.conditions.suction_condition() {
@@ -164,13 +182,18 @@ impl ReferenceFluid {
             geo.boundary.iter().map(|face| boundary::fixed_velocity(&self.conditions, face, self.rotor.as_ref())).collect();
         let prescribed: Vec<Option<f64>> = geo.boundary.iter().map(|face| boundary::prescribed_flux(&self.conditions, face, self.rotor.as_ref())).collect();
         let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
-        let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &moved, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
+        // faces whose geometry changed since the stored fluxes: the rotor's, or all of a
+        // deforming mesh
+        let fresh: Vec<bool> = if deforming { vec![true; n] } else { moved.clone() };
+        let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &fresh, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {
             geo: &geo,
             conditions: &self.conditions,
             rotor: self.rotor.as_ref(),
             numerics: &self.numerics,
             volumes: &volumes,
+            volumes_old: &volumes_old,
+            deforming,
             viscosity: self.turbulence.viscosity(fluid, self.nu),
             dt,
             time_coefficients,
@@ -201,7 +224,7 @@ impl ReferenceFluid {
             .links
             .iter()
             .map(|link| match link.origin {
-                LinkOrigin::Face(f) if !moved[link.owner] => fluid.flux[f],
+                LinkOrigin::Face(f) if !fresh[link.owner] => fluid.flux[f],
                 _ => link.interpolate_vec(u[link.owner], u[link.neighbour]).dot(&link.area),
             })
             .collect();
@@ -278,6 +301,9 @@ impl ReferenceFluid {
         // step 5: shift the time levels
         let n_faces = self.mesh.face_areas.len();
         let fluid = fluid_state;
+        if let Some(following) = self.follower.as_mut() {
+            following.finish_step(fluid);
+        }
         fluid.velocity_old = fluid.velocity.clone();
         fluid.velocity = u.iter().map(|v| [v.x, v.y, v.z]).collect();
         fluid.pressure = p;
@@ -411,11 +437,30 @@ impl FluidPhase for ReferenceFluid {
     }
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
-        FluidSample { mesh: &self.mesh, rotor: self.rotor.as_ref(), fluid, density: self.density, kinematic_viscosity: self.nu, dt_old: self.dt_old }
+        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.face_mesh_flux());
+        FluidSample {
+            mesh: &self.mesh,
+            rotor: self.rotor.as_ref(),
+            fluid,
+            density: self.density,
+            kinematic_viscosity: self.nu,
+            dt_old: self.dt_old,
+            deforming_flux,
+        }
     }
 
     fn rewind(&mut self, dt_old: f64) {
         self.dt_old = dt_old;
+        if let Some(following) = self.follower.as_mut() {
+            following.rewind(&mut self.mesh);
+        }
+    }
+
+    fn follow_walls(&mut self, ctx: &StepContext, walls: &WallState, fluid: &FluidState) -> Result<(), SolverError> {
+        if let Some(following) = self.follower.as_mut() {
+            following.move_for_step(&mut self.mesh, walls, &fluid.mesh_displacement, ctx.time_coefficients, ctx.dt).map_err(SolverError::Unsupported)?;
+        }
+        Ok(())
     }
 
     /// ½ Σ_f |φ_f − φ_mesh,f| / V per second, with the interpolated cell velocities on every
