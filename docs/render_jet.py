@@ -26,7 +26,7 @@ def panel(view, show_edges):
     d.RescaleTransferFunctionToDataRange(True, False)
     bar = GetScalarBar(lut, view); bar.Title = 'water speed [m/s]'; bar.ComponentTitle = ''; bar.Visibility = 1
     bar.TitleColor = [0, 0, 0]; bar.LabelColor = [0, 0, 0]
-    p = Show(particles, view); p.SetRepresentationType('Points'); p.PointSize = 3; p.AmbientColor = [1, 0.3, 0.1]; p.DiffuseColor = [1, 0.3, 0.1]
+    p = Show(particles, view); p.SetRepresentationType('Points'); p.PointSize = 7; p.AmbientColor = [1, 0.3, 0.1]; p.DiffuseColor = [1, 0.3, 0.1]
     return d
 
 layout = CreateLayout('jet')

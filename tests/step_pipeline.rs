@@ -395,6 +395,14 @@ impl<F: FluidPhase> FluidPhase for FailsOnce<F> {
     fn rewind(&mut self, dt_old: f64) {
         self.inner.rewind(dt_old)
     }
+    fn follow_walls(
+        &mut self,
+        ctx: &spillage_model::step::StepContext,
+        walls: &spillage_model::walls::state::WallState,
+        fluid: &FluidState,
+    ) -> Result<(), spillage_model::solver::SolverError> {
+        self.inner.follow_walls(ctx, walls, fluid)
+    }
 }
 
 /// A step the driver retried leaves no trace of its rejected attempt: the retried run equals,

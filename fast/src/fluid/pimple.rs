@@ -129,7 +129,7 @@ impl FastFluid {
         let mut mesh = mesh;
         // a mesh that follows a receding wall, where the state left it (spillage_model::wear::fluid_mesh)
         let fluid_state = state.fluid.as_mut().expect("prepared above");
-        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state).map_err(unsupported)?;
+        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state, state.dt).map_err(unsupported)?;
         let mut rotor = rotor;
         if let Some(r) = rotor.as_mut() {
             // the rotor where the state left it, before the link geometry is built from the mesh
@@ -536,7 +536,7 @@ impl FluidPhase for FastFluid {
     }
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
-        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.face_mesh_flux());
+        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.finished_mesh_flux());
         FluidSample {
             mesh: &self.mesh,
             rotor: self.rotor.as_ref(),

@@ -75,8 +75,10 @@ pub fn state_for_case(case: &Case, state: &State) -> Result<(), String> {
         if !fluid.cumulative_continuity_error.is_finite() {
             return Err(format!("fluid cumulative_continuity_error is {}", fluid.cumulative_continuity_error));
         }
-        if let Some(i) = fluid.mesh_displacement.iter().position(|v| !v.is_finite()) {
-            return Err(format!("fluid mesh_displacement of point {i} is {}: expected a finite number", fluid.mesh_displacement[i]));
+        for (name, values) in [("mesh_displacement", &fluid.mesh_displacement), ("mesh_displacement_old", &fluid.mesh_displacement_old)] {
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(format!("fluid {name} of point {i} is {}: expected a finite number", values[i]));
+            }
         }
     }
     let n_walls = state.walls.as_ref().map_or(0, |w| w.walls.len());

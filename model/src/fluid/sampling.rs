@@ -27,8 +27,8 @@ pub struct FluidSample<'a> {
     pub kinematic_viscosity: f64,
     /// The last fluid step (0 before the first: no local acceleration).
     pub dt_old: f64,
-    /// Per face, the mesh flux of a mesh that follows a receding wall (its motion over the
-    /// step being taken, as slow as the wear), empty on a mesh that does not deform.
+    /// Per face, the mesh flux of a mesh that follows a receding wall over the last step (the
+    /// motion that brought it to tⁿ), empty on a mesh that does not deform.
     pub deforming_flux: &'a [f64],
 }
 

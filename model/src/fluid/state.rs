@@ -33,6 +33,10 @@ pub struct FluidState {
     /// (`[wear.fluid_mesh]`, crate::wear::fluid_mesh); empty on a mesh that does not deform.
     #[serde(default)]
     pub mesh_displacement: Vec<f64>,
+    /// The same at tⁿ⁻¹: the last step's mesh motion, which the particles' Du/Dt at tⁿ takes
+    /// (crate::fluid::sampling); empty on a mesh that does not deform.
+    #[serde(default)]
+    pub mesh_displacement_old: Vec<f64>,
 }
 
 impl FluidState {
@@ -51,6 +55,7 @@ impl FluidState {
             cumulative_continuity_error: 0.0,
             turbulence: None,
             mesh_displacement: Vec::new(),
+            mesh_displacement_old: Vec::new(),
         }
     }
 

@@ -171,7 +171,7 @@ impl Mesh {
             patches,
             periodic,
             zones: vec![ZoneInput { name: "fluid".to_string(), cells: (0..n_cells).collect(), rotation: None }],
-            locator: Locator::Box { edges, cell_of_slot, deformed: false },
+            locator: Locator::Box { edges, cell_of_slot, deformed: false, moved_bounds: [[0.0; 3]; 2] },
         };
         let n = spec.cells;
         assemble(input, |cell, local| {

@@ -91,8 +91,12 @@ impl Mesh {
         self.update_cell_geometry(0..self.n_cells());
         self.use_fan_volumes();
         self.update_interpolation(0..self.n_internal_faces);
-        if let super::Locator::Box { deformed, .. } = &mut self.locator {
+        if let super::Locator::Box { deformed, moved_bounds, .. } = &mut self.locator {
             *deformed = true;
+            *moved_bounds = self
+                .points
+                .iter()
+                .fold([[f64::MAX; 3], [f64::MIN; 3]], |[lo, hi], p| [std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k]))]);
         }
         Ok(swept)
     }

@@ -45,6 +45,9 @@ pub enum Locator {
         /// slot is only where a walk to the containing cell starts.
         #[serde(default)]
         deformed: bool,
+        /// The moved points' bounding box (min, max), outside of which no cell lies.
+        #[serde(default)]
+        moved_bounds: [[f64; 3]; 2],
     },
     Cylindrical {
         blocks: Vec<CylinderBlock>,
@@ -80,7 +83,10 @@ impl Mesh {
     pub fn locate(&self, point: &Vec3) -> Option<usize> {
         match &self.locator {
             Locator::None => (0..self.n_cells()).find(|&c| self.contains(c, point)),
-            Locator::Box { edges, cell_of_slot, deformed: true } => {
+            Locator::Box { edges, cell_of_slot, deformed: true, moved_bounds: [lo, hi] } => {
+                if (0..3).any(|k| !(point[k] >= lo[k] && point[k] <= hi[k])) {
+                    return None;
+                }
                 let clamped = |d: usize, x: f64| interval(&edges[d], x.clamp(edges[d][0], edges[d][edges[d].len() - 1]));
                 let (i, j, k) = (clamped(0, point.x)?, clamped(1, point.y)?, clamped(2, point.z)?);
                 let (nx, ny) = (edges[0].len() - 1, edges[1].len() - 1);

@@ -102,7 +102,17 @@ impl WallFollower {
         let helper = if normal.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
         let first = normal.cross(&helper).normalize();
         let tangents = [first, normal.cross(&first)];
-        let in_plane = |p: &Vec3| [p.dot(&tangents[0]), p.dot(&tangents[1])];
+        // a 2-D mesh (one layer between `empty` patches) stays 2-D: its points are read at the
+        // layer's middle, so that both sides of a cell take one height
+        let empty = mesh.patches.iter().find(|p| p.kind == crate::mesh::PatchKind::Empty && p.len > 0).map(|p| mesh.face_areas[p.start].normalize());
+        let middle = empty.map(|e| {
+            let (lo, hi) = mesh.reference_points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p.dot(&e)), hi.max(p.dot(&e))));
+            (e, 0.5 * (lo + hi))
+        });
+        let in_plane = |p: &Vec3| {
+            let p = middle.map_or(*p, |(e, m)| p + e * (m - p.dot(&e)));
+            [p.dot(&tangents[0]), p.dot(&tangents[1])]
+        };
         let distance: Vec<f64> = mesh.reference_points.iter().map(|p| offset - p.dot(&normal)).collect();
         let depth = section.depth.unwrap_or_else(|| distance.iter().fold(0.0, |a: f64, d| a.max(*d)));
         let mut follower = WallFollower {
@@ -123,7 +133,8 @@ impl WallFollower {
             }
             for f in other.faces() {
                 let across = mesh.face_areas[f].normalize().dot(&normal).abs() > PLANE_TOLERANCE;
-                if across && mesh.face_points[f].iter().any(|&p| follower.share[p] > 0.0) {
+                // (1e-12: a depth equal to the distance to a face leaves round-off there)
+                if across && mesh.face_points[f].iter().any(|&p| follower.share[p] > 1e-12) {
                     let c = mesh.face_centres[f];
                     return Err(format!(
                         "[wear.fluid_mesh]: face {f} of patch {:?} at ({:.6}, {:.6}, {:.6}) m would move across itself as the mesh bends toward patch {:?}; a shorter depth (at most the distance to the faces facing the wall) keeps it still",
@@ -201,8 +212,12 @@ pub struct MeshFollowing {
     /// taken (a rejected step goes back to it).
     placed: Vec<f64>,
     step_start: Vec<f64>,
-    /// Per face, the mesh flux of the step being taken, swept volume · c₀/Δt [m³/s].
+    /// Per face, the mesh flux of the step being taken, swept volume · c₀/Δt [m³/s], and of the
+    /// last step taken (the particles' Du/Dt at tⁿ reads the motion that brought the mesh there).
     face_mesh_flux: Vec<f64>,
+    finished_flux: Vec<f64>,
+    /// `finished_flux` as it was when the step being taken began (a rejected step restores it).
+    finished_flux_at_start: Vec<f64>,
     /// The cell volumes at tⁿ of the step being taken.
     volumes_old: Vec<f64>,
     /// Whether the mesh was moved for the step being taken (and not yet finished or rewound).
@@ -214,18 +229,40 @@ impl MeshFollowing {
     /// `fluid` says the mesh is (a restart) or as built (a fresh run, whose displacement it
     /// fills in with zeros). The case has been validated for it (`Case::validate`: a box mesh
     /// without periodic directions, a `symmetry` patch, implicit Euler, laminar flow).
-    pub fn from_case(case: &Case, mesh: &mut Mesh, walls: Option<&WallState>, fluid: &mut crate::fluid::state::FluidState) -> Result<Option<Self>, String> {
+    /// `dt_old` is the state's last step, whose mesh motion (from `mesh_displacement_old`) the
+    /// particles sample until the next step.
+    pub fn from_case(
+        case: &Case,
+        mesh: &mut Mesh,
+        walls: Option<&WallState>,
+        fluid: &mut crate::fluid::state::FluidState,
+        dt_old: f64,
+    ) -> Result<Option<Self>, String> {
         let Some(follower) = WallFollower::from_case(case, mesh, walls)? else { return Ok(None) };
-        if fluid.mesh_displacement.is_empty() {
-            fluid.mesh_displacement = vec![0.0; mesh.n_points()];
-        } else if fluid.mesh_displacement.len() != mesh.n_points() {
-            return Err(format!("the state's mesh displacement has {} points, the mesh {}", fluid.mesh_displacement.len(), mesh.n_points()));
+        for (name, values) in [("mesh displacement", &mut fluid.mesh_displacement), ("mesh displacement at tⁿ⁻¹", &mut fluid.mesh_displacement_old)] {
+            if values.is_empty() {
+                *values = vec![0.0; mesh.n_points()];
+            } else if values.len() != mesh.n_points() {
+                return Err(format!("the state's {name} has {} points, the mesh {}", values.len(), mesh.n_points()));
+            }
         }
         mesh.use_fan_volumes();
-        mesh.move_points(&follower.points(mesh, &fluid.mesh_displacement)).map_err(|e| e.to_string())?;
+        // the last step's motion, as the run had it, then the mesh where it is now
+        mesh.move_points(&follower.points(mesh, &fluid.mesh_displacement_old)).map_err(|e| e.to_string())?;
+        let swept = mesh.move_points(&follower.points(mesh, &fluid.mesh_displacement)).map_err(|e| e.to_string())?;
+        let finished_flux = if dt_old > 0.0 { swept.iter().map(|s| s * 1.0 / dt_old).collect() } else { vec![0.0; mesh.n_faces()] };
         let placed = fluid.mesh_displacement.clone();
         let volumes_old = mesh.cell_volumes.clone();
-        Ok(Some(MeshFollowing { follower, step_start: placed.clone(), placed, face_mesh_flux: vec![0.0; mesh.n_faces()], volumes_old, moved: false }))
+        Ok(Some(MeshFollowing {
+            follower,
+            step_start: placed.clone(),
+            placed,
+            face_mesh_flux: vec![0.0; mesh.n_faces()],
+            finished_flux_at_start: finished_flux.clone(),
+            finished_flux,
+            volumes_old,
+            moved: false,
+        }))
     }
 
     /// Moves the mesh for the step from tⁿ to tⁿ⁺¹ (the driver's first stage, with the rotor's
@@ -244,6 +281,7 @@ impl MeshFollowing {
             self.placed = displacement.to_vec();
         }
         self.step_start.clone_from(&self.placed);
+        self.finished_flux_at_start.clone_from(&self.finished_flux);
         self.volumes_old.clone_from(&mesh.cell_volumes);
         let target = self.follower.displacement(walls)?;
         let swept = mesh.move_points(&self.follower.points(mesh, &target)).map_err(|e| e.to_string())?;
@@ -265,14 +303,18 @@ impl MeshFollowing {
         }
     }
 
-    /// The step is taken: the state's displacement at tⁿ⁺¹ is the mesh's.
+    /// The step is taken: the state's displacement at tⁿ⁺¹ is the mesh's, at tⁿ the step's start,
+    /// and the step's mesh flux is the last step's motion from now on.
     pub fn finish_step(&mut self, fluid: &mut crate::fluid::state::FluidState) {
+        fluid.mesh_displacement_old.clone_from_slice(&self.step_start);
         fluid.mesh_displacement.clone_from_slice(&self.placed);
+        self.finished_flux.clone_from(&self.face_mesh_flux);
         self.moved = false;
     }
 
-    /// The driver rejected the step: the mesh goes back to where it started (the particles
-    /// sample it next), with no mesh fluxes.
+    /// The driver rejected the step (its fluid part may have finished): the mesh goes back to
+    /// where it started (the particles sample it next), with no mesh fluxes of its own and the
+    /// last step's motion as it was.
     pub fn rewind(&mut self, mesh: &mut Mesh) {
         if self.placed != self.step_start {
             // the points the mesh had at that step's start, which were valid then
@@ -280,6 +322,7 @@ impl MeshFollowing {
             self.placed.clone_from(&self.step_start);
         }
         self.face_mesh_flux.fill(0.0);
+        self.finished_flux.clone_from(&self.finished_flux_at_start);
         self.volumes_old.clone_from(&mesh.cell_volumes);
         self.moved = false;
     }
@@ -287,6 +330,12 @@ impl MeshFollowing {
     /// Per face, the mesh flux of the step being taken [m³/s].
     pub fn face_mesh_flux(&self) -> &[f64] {
         &self.face_mesh_flux
+    }
+
+    /// Per face, the mesh flux of the last step taken [m³/s] (what the particles sample with
+    /// the fluid at tⁿ).
+    pub fn finished_mesh_flux(&self) -> &[f64] {
+        &self.finished_flux
     }
 
     /// The cell volumes at tⁿ of the step being taken.

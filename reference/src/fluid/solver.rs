@@ -67,7 +67,7 @@ impl ReferenceFluid {
         prepare_fluid_state(state, case, &mesh).map_err(SolverError::Unsupported)?;
         let turbulence = turbulence::from_case(&case.turbulence, conditions.wall_patch_names(&mesh));
         let fluid_state = state.fluid.as_mut().expect("prepared above");
-        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state).map_err(SolverError::Unsupported)?;
+        let follower = MeshFollowing::from_case(case, &mut mesh, state.walls.as_ref(), fluid_state, state.dt).map_err(SolverError::Unsupported)?;
         let mut solver = ReferenceFluid {
             mesh,
             conditions,
@@ -437,7 +437,7 @@ impl FluidPhase for ReferenceFluid {
     }
 
     fn sample_source<'a>(&'a self, fluid: &'a FluidState) -> FluidSample<'a> {
-        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.face_mesh_flux());
+        let deforming_flux = self.follower.as_ref().map_or(&[][..], |f| f.finished_mesh_flux());
         FluidSample {
             mesh: &self.mesh,
             rotor: self.rotor.as_ref(),
