@@ -66,9 +66,10 @@ impl Mesh {
 
     /// Moves the points to `new_points` (linearly in time, as far as the swept volumes are
     /// concerned), recomputes faces, cells (centres by pyramids, volumes by fans) and
-    /// interpolation, and returns each face's swept volume along its area vector [m³]. A cell
-    /// whose volume would not stay positive is an error naming it, and leaves the mesh as it was.
-    pub fn move_points(&mut self, new_points: &[Vec3]) -> Result<Vec<f64>, MeshError> {
+    /// interpolation, and puts each face's swept volume along its area vector [m³] in `swept`
+    /// (its storage reused). A cell whose volume would not stay positive is an error naming it,
+    /// and leaves the mesh as it was.
+    pub fn move_points(&mut self, new_points: &[Vec3], swept: &mut Vec<f64>) -> Result<(), MeshError> {
         if new_points.len() != self.n_points() {
             return Err(MeshError::input("moved points", new_points.len() as f64, "must be one per mesh point"));
         }
@@ -85,7 +86,8 @@ impl Mesh {
                 )));
             }
         }
-        let swept = self.face_points.iter().map(|ids| swept_volume(&ids.map(|i| self.points[i]), &ids.map(|i| new_points[i]))).collect();
+        swept.clear();
+        swept.extend(self.face_points.iter().map(|ids| swept_volume(&ids.map(|i| self.points[i]), &ids.map(|i| new_points[i]))));
         self.points.copy_from_slice(new_points);
         self.update_face_geometry(0..self.n_faces());
         self.update_cell_geometry(0..self.n_cells());
@@ -98,7 +100,7 @@ impl Mesh {
                 .iter()
                 .fold([[f64::MAX; 3], [f64::MIN; 3]], |[lo, hi], p| [std::array::from_fn(|k| lo[k].min(p[k])), std::array::from_fn(|k| hi[k].max(p[k]))]);
         }
-        Ok(swept)
+        Ok(())
     }
 }
 
@@ -143,7 +145,8 @@ mod tests {
         mesh.use_fan_volumes();
         let before = mesh.cell_volumes.clone();
         let target = wavy(&mesh.points, 0.05);
-        let swept = mesh.move_points(&target).unwrap();
+        let mut swept = Vec::new();
+        mesh.move_points(&target, &mut swept).unwrap();
         let mut net = vec![0.0; mesh.n_cells()];
         for (f, s) in swept.iter().enumerate() {
             net[mesh.face_owner[f]] += s;
@@ -161,7 +164,7 @@ mod tests {
         assert!(largest_change > 1e-2, "largest relative volume change {largest_change}");
         // a rigid translation sweeps nothing net through any cell but moves every face
         let shifted: Vec<Vec3> = mesh.points.iter().map(|p| p + Vec3::new(0.01, 0.0, 0.0)).collect();
-        let swept = mesh.move_points(&shifted).unwrap();
+        mesh.move_points(&shifted, &mut swept).unwrap();
         // (a face across x sweeps 0.01 m × its area, 1e-5 m³ and more here)
         assert!(swept.iter().any(|s| s.abs() > 1e-6));
     }
@@ -174,7 +177,7 @@ mod tests {
         let mut target = mesh.points.clone();
         let far = target.iter().position(|p| p.x == 1.0).unwrap();
         target[far].x = -0.5;
-        let error = mesh.move_points(&target).unwrap_err().to_string();
+        let error = mesh.move_points(&target, &mut Vec::new()).unwrap_err().to_string();
         assert!(error.contains("would turn inside out"), "{error}");
         assert_eq!(mesh.points, before);
     }

@@ -115,7 +115,7 @@ impl WallFollower {
         };
         let distance: Vec<f64> = mesh.reference_points.iter().map(|p| offset - p.dot(&normal)).collect();
         let depth = section.depth.unwrap_or_else(|| distance.iter().fold(0.0, |a: f64, d| a.max(*d)));
-        let mut follower = WallFollower {
+        let follower = WallFollower {
             wall: section.wall.clone(),
             normal,
             offset,
@@ -155,7 +155,6 @@ impl WallFollower {
                 }
             }
         }
-        follower.share.shrink_to_fit();
         Ok(Some(follower))
     }
 
@@ -182,29 +181,36 @@ impl WallFollower {
         None
     }
 
-    /// Each mesh point's displacement along the normal for the wall as it is in `walls`.
-    pub fn displacement(&self, walls: &WallState) -> Result<Vec<f64>, String> {
+    /// Each mesh point's displacement along the normal for the wall as it is in `walls`, into
+    /// `out` (its storage reused).
+    pub fn displacement(&self, walls: &WallState, out: &mut Vec<f64>) -> Result<(), String> {
         let wall =
             walls.walls.iter().find(|w| w.name == self.wall).ok_or_else(|| format!("[wear.fluid_mesh] wall = {:?}: no such wall in the state", self.wall))?;
-        Ok(self
-            .plane_position
-            .iter()
-            .zip(&self.share)
-            .map(|(q, share)| if *share > 0.0 { share * self.height_over(&wall.vertices, &wall.triangles, *q).unwrap_or(0.0) } else { 0.0 })
-            .collect())
+        out.clear();
+        out.extend(self.plane_position.iter().zip(&self.share).map(|(q, share)| {
+            if *share > 0.0 {
+                share * self.height_over(&wall.vertices, &wall.triangles, *q).unwrap_or(0.0)
+            } else {
+                0.0
+            }
+        }));
+        Ok(())
     }
 
-    /// The mesh's points displaced by `displacement` along the normal from their reference.
-    pub fn points(&self, mesh: &Mesh, displacement: &[f64]) -> Vec<Vec3> {
-        mesh.reference_points.iter().zip(displacement).map(|(p, d)| p + self.normal * *d).collect()
+    /// Moves `mesh` to its points displaced by `displacement` along the normal from their
+    /// reference (`points` and `swept` are work storage; `swept` gets the faces' swept volumes).
+    fn move_mesh(&self, mesh: &mut Mesh, displacement: &[f64], points: &mut Vec<Vec3>, swept: &mut Vec<f64>) -> Result<(), String> {
+        points.clear();
+        points.extend(mesh.reference_points.iter().zip(displacement).map(|(p, d)| p + self.normal * *d));
+        mesh.move_points(points, swept).map_err(|e| e.to_string())
     }
 }
 
 /// A fluid solver's mesh that follows a receding wall: the follower, where the mesh is, and the
 /// step's face mesh fluxes and old volumes. Both fluid solvers step it the same way
-/// ([`MeshFollowing::move_for_step`] with the step's rotor pose, [`MeshFollowing::finish_step`],
+/// ([`MeshFollowing::move_for_step`] at the step's start, [`MeshFollowing::finish_step`],
 /// [`MeshFollowing::rewind`]); they differ only in how their discretisations read the fluxes
-/// and volumes.
+/// and volumes. Allocation-free once built.
 #[derive(Clone, Debug)]
 pub struct MeshFollowing {
     follower: WallFollower,
@@ -222,6 +228,11 @@ pub struct MeshFollowing {
     volumes_old: Vec<f64>,
     /// Whether the mesh was moved for the step being taken (and not yet finished or rewound).
     moved: bool,
+    /// Work storage of a move, sized once: the target displacement, the points, the swept
+    /// volumes.
+    target: Vec<f64>,
+    points: Vec<Vec3>,
+    swept: Vec<f64>,
 }
 
 impl MeshFollowing {
@@ -248,25 +259,30 @@ impl MeshFollowing {
         }
         mesh.use_fan_volumes();
         // the last step's motion, as the run had it, then the mesh where it is now
-        mesh.move_points(&follower.points(mesh, &fluid.mesh_displacement_old)).map_err(|e| e.to_string())?;
-        let swept = mesh.move_points(&follower.points(mesh, &fluid.mesh_displacement)).map_err(|e| e.to_string())?;
-        let finished_flux = if dt_old > 0.0 { swept.iter().map(|s| s * 1.0 / dt_old).collect() } else { vec![0.0; mesh.n_faces()] };
+        let (mut points, mut swept) = (Vec::new(), Vec::new());
+        follower.move_mesh(mesh, &fluid.mesh_displacement_old, &mut points, &mut swept)?;
+        follower.move_mesh(mesh, &fluid.mesh_displacement, &mut points, &mut swept)?;
+        // (Euler's c₀ = 1: the flux the step had, swept · c₀/Δt, to the bit)
+        let finished_flux = if dt_old > 0.0 { swept.iter().map(|s| s / dt_old).collect() } else { vec![0.0; mesh.n_faces()] };
         let placed = fluid.mesh_displacement.clone();
         let volumes_old = mesh.cell_volumes.clone();
         Ok(Some(MeshFollowing {
             follower,
             step_start: placed.clone(),
+            target: placed.clone(),
             placed,
             face_mesh_flux: vec![0.0; mesh.n_faces()],
             finished_flux_at_start: finished_flux.clone(),
             finished_flux,
             volumes_old,
             moved: false,
+            points,
+            swept,
         }))
     }
 
-    /// Moves the mesh for the step from tⁿ to tⁿ⁺¹ (the driver's first stage, with the rotor's
-    /// pose): back to `displacement`, the state's at tⁿ, if it is elsewhere (a restart), then
+    /// Moves the mesh for the step from tⁿ to tⁿ⁺¹ (the driver's first stage, before the
+    /// particles sample it): back to `displacement`, the state's at tⁿ, if it is elsewhere (a restart), then
     /// onto the shape `walls` have at tⁿ, setting each face's mesh flux to its swept volume
     /// · c₀/Δt (implicit Euler: Σ_f φ_mesh = (Vⁿ⁺¹ − Vⁿ)/Δt exactly, crate::mesh::deform) and
     /// keeping the volumes at tⁿ. The mesh lags the wall by the step: the wall recedes after the
@@ -277,18 +293,18 @@ impl MeshFollowing {
             return Err("[wear.fluid_mesh]: a following mesh steps with implicit Euler only (time coefficient c₂ ≠ 0)".into());
         }
         if self.placed != displacement {
-            mesh.move_points(&self.follower.points(mesh, displacement)).map_err(|e| e.to_string())?;
-            self.placed = displacement.to_vec();
+            self.follower.move_mesh(mesh, displacement, &mut self.points, &mut self.swept)?;
+            self.placed.copy_from_slice(displacement);
         }
         self.step_start.clone_from(&self.placed);
         self.finished_flux_at_start.clone_from(&self.finished_flux);
         self.volumes_old.clone_from(&mesh.cell_volumes);
-        let target = self.follower.displacement(walls)?;
-        let swept = mesh.move_points(&self.follower.points(mesh, &target)).map_err(|e| e.to_string())?;
-        for (flux, s) in self.face_mesh_flux.iter_mut().zip(swept) {
+        self.follower.displacement(walls, &mut self.target)?;
+        self.follower.move_mesh(mesh, &self.target, &mut self.points, &mut self.swept)?;
+        for (flux, s) in self.face_mesh_flux.iter_mut().zip(&self.swept) {
             *flux = s * c0 / dt;
         }
-        self.placed = target;
+        std::mem::swap(&mut self.placed, &mut self.target);
         self.moved = true;
         Ok(())
     }
@@ -318,7 +334,7 @@ impl MeshFollowing {
     pub fn rewind(&mut self, mesh: &mut Mesh) {
         if self.placed != self.step_start {
             // the points the mesh had at that step's start, which were valid then
-            mesh.move_points(&self.follower.points(mesh, &self.step_start)).expect("the mesh of the step's start");
+            self.follower.move_mesh(mesh, &self.step_start, &mut self.points, &mut self.swept).expect("the mesh of the step's start");
             self.placed.clone_from(&self.step_start);
         }
         self.face_mesh_flux.fill(0.0);

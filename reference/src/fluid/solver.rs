@@ -160,19 +160,16 @@ impl ReferenceFluid {
         let time_coefficients = ctx.time_coefficients;
         self.place_rotor(ctx.rotor.as_ref())?;
         // a mesh that follows a receding wall was moved for this step ([`FluidPhase::follow_walls`])
-        let volumes_old = match &self.follower {
-            Some(following) => {
-                following.check_moved().map_err(SolverError::Unsupported)?;
-                Some(following.volumes_old().to_vec())
-            }
-            None => None,
-        };
+        if let Some(following) = &self.follower {
+            following.check_moved().map_err(SolverError::Unsupported)?;
+        }
+        let deforming = self.follower.is_some();
         let geo = self.geometry();
         let fluid = &*fluid_state;
         let n = geo.n_cells();
         let volumes = self.mesh.cell_volumes.clone();
-        let deforming = volumes_old.is_some();
-        let volumes_old = volumes_old.unwrap_or_else(|| volumes.clone());
+        let following_volumes = self.follower.as_ref().map(|f| f.volumes_old().to_vec());
+        let volumes_old: &[f64] = following_volumes.as_deref().unwrap_or(&volumes);
         let u_old: Vec<Vec3> = fluid.velocity.iter().map(|v| Vec3::from(*v)).collect();
         let u_old_old: Vec<Vec3> = fluid.velocity_old.iter().map(|v| Vec3::from(*v)).collect();
         if let Some(suction) = self.conditions.suction_condition() {
@@ -184,15 +181,21 @@ impl ReferenceFluid {
         let moved = super::geometry::cell_in_rotor(&self.mesh, self.rotor.as_ref());
         // faces whose geometry changed since the stored fluxes: the rotor's, or all of a
         // deforming mesh
-        let fresh: Vec<bool> = if deforming { vec![true; n] } else { moved.clone() };
-        let ddt_flux_correction = ddt_flux_correction(&geo, fluid, &fresh, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
+        let all_cells;
+        let fresh: &[bool] = if deforming {
+            all_cells = vec![true; n];
+            &all_cells
+        } else {
+            &moved
+        };
+        let ddt_flux_correction = ddt_flux_correction(&geo, fluid, fresh, &u_old, &u_old_old, time_coefficients, dt, self.numerics.ddt_flux_correction);
         let inputs = StepInputs {
             geo: &geo,
             conditions: &self.conditions,
             rotor: self.rotor.as_ref(),
             numerics: &self.numerics,
             volumes: &volumes,
-            volumes_old: &volumes_old,
+            volumes_old,
             deforming,
             viscosity: self.turbulence.viscosity(fluid, self.nu),
             dt,
